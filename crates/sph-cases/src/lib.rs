@@ -1,0 +1,1 @@
+//! Benchmark cases as scene builders (filled by the method issues).

@@ -1,0 +1,26 @@
+//! # sph-core
+//!
+//! The geometry of particles that every sph-solids method shares: the spatial dimension as a type
+//! ([`dim`]), smoothing kernels ([`kernel`]), neighbour search ([`neighbor`]), per-pair kernel data
+//! ([`pairs`]), the kernel-gradient correction matrix ([`correction`]), particle generators
+//! ([`generate`]), constraints, forces and probes a scene attaches ([`scene`]), the particle
+//! disorder indicator ([`disorder`]), and the [`solver::Solver`] trait.
+//!
+//! Conventions (METHODS.md): particle `i`, neighbour `j`; `x_ij = x_i − x_j`, `e_ij = x_ij/r_ij`
+//! points from `j` to `i`; `∇_i W_ij = W′(r_ij) e_ij` with `W′ ≤ 0`.
+#![deny(missing_docs)]
+
+pub mod correction;
+pub mod dim;
+pub mod disorder;
+pub mod error;
+pub mod generate;
+pub mod kernel;
+pub mod neighbor;
+pub mod pairs;
+pub mod scene;
+pub mod solver;
+
+pub use dim::{Dim, D2, D3};
+pub use error::Error;
+pub use kernel::{Kernel, WendlandC2};

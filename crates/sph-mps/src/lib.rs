@@ -1,0 +1,1 @@
+//! sph-mps (filled by its own issue).

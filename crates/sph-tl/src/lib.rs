@@ -1,0 +1,1 @@
+//! sph-tl (filled by its own issue).

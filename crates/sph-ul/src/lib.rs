@@ -1,0 +1,1 @@
+//! sph-ul (filled by its own issue).

@@ -1,0 +1,1 @@
+//! Validation runs (filled by the method issues).
