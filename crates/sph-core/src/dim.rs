@@ -225,7 +225,11 @@ impl Dim for D2 {
     }
     #[inline(always)]
     fn to_mat3(m: DMat2, zz: f64) -> DMat3 {
-        DMat3::from_cols(m.x_axis.extend(0.0), m.y_axis.extend(0.0), DVec3::new(0.0, 0.0, zz))
+        DMat3::from_cols(
+            m.x_axis.extend(0.0),
+            m.y_axis.extend(0.0),
+            DVec3::new(0.0, 0.0, zz),
+        )
     }
     fn symmetric_eigen(m: DMat2) -> (DVec2, DMat2) {
         // Closed form: rotation angle θ with tan 2θ = 2 m_xy / (m_xx − m_yy).
@@ -238,7 +242,10 @@ impl Dim for D2 {
         // Column 0 is the eigenvector of the larger eigenvalue (mean + radius).
         let big = DVec2::new(c, s);
         let small = DVec2::new(-s, c);
-        (DVec2::new(mean - radius, mean + radius), DMat2::from_cols(small, big))
+        (
+            DVec2::new(mean - radius, mean + radius),
+            DMat2::from_cols(small, big),
+        )
     }
 }
 
@@ -388,9 +395,16 @@ fn jacobi_eigen3(m: DMat3) -> (DVec3, DMat3) {
     }
     let mut order = [0usize, 1, 2];
     order.sort_by(|&i, &j| a[i][i].total_cmp(&a[j][j]));
-    let vals = DVec3::new(a[order[0]][order[0]], a[order[1]][order[1]], a[order[2]][order[2]]);
+    let vals = DVec3::new(
+        a[order[0]][order[0]],
+        a[order[1]][order[1]],
+        a[order[2]][order[2]],
+    );
     let col = |k: usize| DVec3::new(q[0][k], q[1][k], q[2][k]);
-    (vals, DMat3::from_cols(col(order[0]), col(order[1]), col(order[2])))
+    (
+        vals,
+        DMat3::from_cols(col(order[0]), col(order[1]), col(order[2])),
+    )
 }
 
 #[cfg(test)]
@@ -403,7 +417,10 @@ mod tests {
         let scale = D::frobenius(m).max(1e-300);
         // Tolerance: rebuilding from a converged decomposition is exact to a few ulps of the
         // largest entry.
-        assert!(D::frobenius(rebuilt - m) <= 1e-12 * scale, "{m:?} vs {rebuilt:?}");
+        assert!(
+            D::frobenius(rebuilt - m) <= 1e-12 * scale,
+            "{m:?} vs {rebuilt:?}"
+        );
         let qtq = D::transpose(q) * q;
         assert!(D::frobenius(qtq - D::identity()) <= 1e-12);
         for k in 1..D::D {

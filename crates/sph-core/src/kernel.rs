@@ -44,7 +44,12 @@ impl<D: Dim> WendlandC2<D> {
             2 => 7.0 / (4.0 * std::f64::consts::PI * h * h),
             _ => 21.0 / (16.0 * std::f64::consts::PI * h * h * h),
         };
-        Ok(Self { h, inv_h: 1.0 / h, alpha, _dim: PhantomData })
+        Ok(Self {
+            h,
+            inv_h: 1.0 / h,
+            alpha,
+            _dim: PhantomData,
+        })
     }
 
     /// A kernel with `h = h_over_dp · dp`, the way the papers state it.
@@ -146,12 +151,18 @@ mod tests {
         // Central differences with step 1e-6 h: truncation O(1e-12) h² W''', round-off
         // O(1e-16/1e-6) relative; 1e-7 relative to max|W'| separates right from wrong.
         let k = WendlandC2::<D3>::new(0.8).unwrap();
-        let scale = (0..200).map(|i| k.dw_dr(i as f64 * 0.008).abs()).fold(0.0, f64::max);
+        let scale = (0..200)
+            .map(|i| k.dw_dr(i as f64 * 0.008).abs())
+            .fold(0.0, f64::max);
         let eps = 1e-6 * k.h();
         for i in 1..400 {
             let r = i as f64 * k.cutoff() / 400.0;
             let fd = (k.w(r + eps) - k.w(r - eps)) / (2.0 * eps);
-            assert!((fd - k.dw_dr(r)).abs() < 1e-7 * scale, "r={r}: {fd} vs {}", k.dw_dr(r));
+            assert!(
+                (fd - k.dw_dr(r)).abs() < 1e-7 * scale,
+                "r={r}: {fd} vs {}",
+                k.dw_dr(r)
+            );
         }
         assert_eq!(k.w(k.cutoff()), 0.0);
         assert_eq!(k.dw_dr(k.cutoff()), 0.0);
@@ -164,7 +175,9 @@ mod tests {
             let e = WendlandC2::<D2>::new(bad).unwrap_err().to_string();
             assert!(e.contains("smoothing_length"), "{e}");
         }
-        let e = WendlandC2::<D3>::from_spacing(-0.1, 1.3).unwrap_err().to_string();
+        let e = WendlandC2::<D3>::from_spacing(-0.1, 1.3)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("particle_spacing"), "{e}");
     }
 }

@@ -1,1 +1,471 @@
-//! (being written)
+//! Neighbour search: a counting-sort cell-linked list (the workhorse) and a kiddo kd-tree (probes,
+//! irregular sets, cross-checks), both producing the same compressed neighbour list
+//! ([`NeighborList`], CSR: offsets + indices).
+//!
+//! Neighbours of `i` are the particles `j ≠ i` with `|x_i − x_j|² < cutoff²`, where the squared
+//! distance is always computed by [`distance_squared`], so the two searches return identical
+//! sets, including for points exactly at the cut-off (excluded by both). Each particle's
+//! neighbours are sorted by index, so the lists are canonical: equal sets give equal lists.
+//!
+//! Lists are built in parallel over fixed blocks of query particles and concatenated in block
+//! order, so the result does not depend on the thread schedule.
+
+use crate::dim::Dim;
+use crate::error::{check_positive, Error};
+use rayon::prelude::*;
+
+/// Query particles per parallel work item. Fixed (not derived from the thread count) so the
+/// output is identical for every number of threads.
+const BLOCK: usize = 256;
+
+/// Squared distance between two points: the one definition both searches use.
+#[inline(always)]
+pub fn distance_squared<D: Dim>(a: D::Vector, b: D::Vector) -> f64 {
+    D::norm_squared(a - b)
+}
+
+/// A compressed sparse-row neighbour list: the neighbours of query particle `i` are
+/// `indices[offsets[i]..offsets[i + 1]]`, sorted ascending. For a contact list the indices refer
+/// to the other point set.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct NeighborList {
+    offsets: Vec<usize>,
+    indices: Vec<u32>,
+}
+
+impl NeighborList {
+    /// Builds a list from CSR parts, checking that offsets start at 0, never decrease and end at
+    /// `indices.len()`.
+    pub fn from_parts(offsets: Vec<usize>, indices: Vec<u32>) -> Result<Self, Error> {
+        let ok = offsets.first() == Some(&0)
+            && offsets.windows(2).all(|w| w[0] <= w[1])
+            && offsets.last() == Some(&indices.len());
+        if !ok {
+            return Err(Error::invalid(
+                "neighbor_offsets",
+                "malformed",
+                "starting at 0, non-decreasing, ending at indices.len()",
+            ));
+        }
+        Ok(Self { offsets, indices })
+    }
+
+    /// Number of query particles.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    /// Whether the list has no query particles.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Neighbours of query particle `i` (sorted ascending).
+    #[inline(always)]
+    pub fn neighbors(&self, i: usize) -> &[u32] {
+        &self.indices[self.offsets[i]..self.offsets[i + 1]]
+    }
+
+    /// The range of pair slots belonging to particle `i` (for arrays of per-pair data aligned
+    /// with [`NeighborList::indices`]).
+    #[inline(always)]
+    pub fn range(&self, i: usize) -> std::ops::Range<usize> {
+        self.offsets[i]..self.offsets[i + 1]
+    }
+
+    /// CSR offsets (`len() + 1` entries).
+    pub fn offsets(&self) -> &[usize] {
+        &self.offsets
+    }
+
+    /// CSR neighbour indices.
+    pub fn indices(&self) -> &[u32] {
+        &self.indices
+    }
+
+    /// Total number of (directed) pairs.
+    pub fn num_pairs(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// Number of neighbours of `i`.
+    #[inline]
+    pub fn count(&self, i: usize) -> usize {
+        self.offsets[i + 1] - self.offsets[i]
+    }
+
+    /// Smallest neighbour count (0 for an empty list).
+    pub fn min_count(&self) -> usize {
+        (0..self.len()).map(|i| self.count(i)).min().unwrap_or(0)
+    }
+
+    /// Largest neighbour count (0 for an empty list).
+    pub fn max_count(&self) -> usize {
+        (0..self.len()).map(|i| self.count(i)).max().unwrap_or(0)
+    }
+
+    /// Concatenates per-block results (counts and indices per block, in block order).
+    fn from_blocks(n: usize, blocks: Vec<(Vec<u32>, Vec<u32>)>) -> Self {
+        let total: usize = blocks.iter().map(|b| b.1.len()).sum();
+        let mut offsets = Vec::with_capacity(n + 1);
+        let mut indices = Vec::with_capacity(total);
+        offsets.push(0);
+        for (counts, idx) in blocks {
+            for c in counts {
+                offsets.push(offsets.last().unwrap() + c as usize);
+            }
+            indices.extend_from_slice(&idx);
+        }
+        debug_assert_eq!(offsets.len(), n + 1);
+        Self { offsets, indices }
+    }
+}
+
+fn check_finite<D: Dim>(positions: &[D::Vector]) -> Result<(), Error> {
+    match positions.iter().position(|&x| !D::is_finite(x)) {
+        None => Ok(()),
+        Some(i) => Err(Error::NonFinite {
+            field: "position".into(),
+            particle: i,
+            step: 0,
+            time: 0.0,
+        }),
+    }
+}
+
+/// A uniform grid of cells (edge ≥ the cut-off) with the particles sorted by cell through a
+/// counting sort. Cells are numbered `x + nx (y + ny z)`, so the three cells adjacent along x
+/// hold a contiguous run of sorted particles.
+#[derive(Clone, Debug)]
+pub struct CellGrid<D: Dim> {
+    origin: D::Vector,
+    cell_size: f64,
+    inv_cell: f64,
+    dims: [usize; 3],
+    /// `cell_start[c]..cell_start[c + 1]` indexes `sorted` for cell `c`.
+    cell_start: Vec<u32>,
+    /// Particle indices in cell order (the permutation `new → old`).
+    sorted: Vec<u32>,
+}
+
+/// Upper bound on the number of cells relative to the particle count: a particle flying far away
+/// (blow-up) or a sparse scene makes the cells larger instead of exhausting memory.
+fn max_cells(n: usize) -> usize {
+    4 * n + 4096
+}
+
+impl<D: Dim> CellGrid<D> {
+    /// Sorts `positions` into cells of edge `max(min_cell_size, ...)`; the edge grows only if the
+    /// bounding box would need more than `4 n + 4096` cells. Errors on a non-positive cell size
+    /// or non-finite positions.
+    pub fn build(positions: &[D::Vector], min_cell_size: f64) -> Result<Self, Error> {
+        check_positive("cell_size", min_cell_size)?;
+        check_finite::<D>(positions)?;
+        let n = positions.len();
+        if n > u32::MAX as usize {
+            return Err(Error::invalid("particles", n, "< 2^32"));
+        }
+        let mut lo = [0.0f64; 3];
+        let mut hi = [0.0f64; 3];
+        if let Some(&first) = positions.first() {
+            for k in 0..D::D {
+                lo[k] = D::component(first, k);
+                hi[k] = lo[k];
+            }
+            for &x in positions {
+                for k in 0..D::D {
+                    let v = D::component(x, k);
+                    lo[k] = lo[k].min(v);
+                    hi[k] = hi[k].max(v);
+                }
+            }
+        }
+        let mut cell_size = min_cell_size;
+        let dims = loop {
+            let mut dims = [1usize; 3];
+            let mut total = 1.0f64;
+            for k in 0..D::D {
+                let d = ((hi[k] - lo[k]) / cell_size).floor() + 1.0;
+                total *= d;
+                dims[k] = d as usize;
+            }
+            if total <= max_cells(n) as f64 {
+                break dims;
+            }
+            cell_size *= 2.0;
+        };
+        let mut origin = D::zero();
+        for k in 0..D::D {
+            D::set_component(&mut origin, k, lo[k]);
+        }
+        let mut grid = Self {
+            origin,
+            cell_size,
+            inv_cell: 1.0 / cell_size,
+            dims,
+            cell_start: Vec::new(),
+            sorted: Vec::new(),
+        };
+        // Counting sort: cell of each particle, counts, prefix sum, stable scatter.
+        let ncell = dims[0] * dims[1] * dims[2];
+        let cell_of: Vec<u32> = positions
+            .par_iter()
+            .map(|&x| grid.cell_index(x) as u32)
+            .collect();
+        let mut start = vec![0u32; ncell + 1];
+        for &c in &cell_of {
+            start[c as usize + 1] += 1;
+        }
+        for c in 0..ncell {
+            start[c + 1] += start[c];
+        }
+        let mut fill = start.clone();
+        let mut sorted = vec![0u32; n];
+        for (i, &c) in cell_of.iter().enumerate() {
+            let slot = &mut fill[c as usize];
+            sorted[*slot as usize] = i as u32;
+            *slot += 1;
+        }
+        grid.cell_start = start;
+        grid.sorted = sorted;
+        Ok(grid)
+    }
+
+    /// Cell coordinates of a point, clamped to the grid.
+    #[inline(always)]
+    fn cell_coords(&self, x: D::Vector) -> [usize; 3] {
+        let mut c = [0usize; 3];
+        for k in 0..D::D {
+            let f = ((D::component(x, k) - D::component(self.origin, k)) * self.inv_cell).floor();
+            c[k] = if f <= 0.0 {
+                0
+            } else {
+                (f as usize).min(self.dims[k] - 1)
+            };
+        }
+        c
+    }
+
+    #[inline(always)]
+    fn cell_index(&self, x: D::Vector) -> usize {
+        let c = self.cell_coords(x);
+        c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
+    }
+
+    /// The cell edge actually used (≥ the requested minimum).
+    pub fn cell_size(&self) -> f64 {
+        self.cell_size
+    }
+
+    /// Number of cells per axis (1 for unused axes).
+    pub fn dims(&self) -> [usize; 3] {
+        self.dims
+    }
+
+    /// Particle indices in cell order: the permutation `perm[new] = old` that makes particles in
+    /// the same cell contiguous in memory. Apply it to every per-particle field with
+    /// [`apply_permutation`] and rebuild.
+    pub fn cell_order(&self) -> &[u32] {
+        &self.sorted
+    }
+
+    /// Calls `f(j)` for every particle `j` of this grid in the cells adjacent to `x` (including
+    /// its own cell): the candidates of a radius query with radius ≤ the cell size.
+    #[inline(always)]
+    pub fn for_each_candidate(&self, x: D::Vector, mut f: impl FnMut(u32)) {
+        // A point outside the grid is clamped to the border cells; candidates are then still a
+        // superset of the particles within one cell edge, because the grid encloses them all.
+        let c = self.cell_coords(x);
+        let x_lo = c[0].saturating_sub(1);
+        let x_hi = (c[0] + 1).min(self.dims[0] - 1);
+        let (y_lo, y_hi) = (c[1].saturating_sub(1), (c[1] + 1).min(self.dims[1] - 1));
+        let (z_lo, z_hi) = (c[2].saturating_sub(1), (c[2] + 1).min(self.dims[2] - 1));
+        for z in z_lo..=z_hi {
+            for y in y_lo..=y_hi {
+                let row = self.dims[0] * (y + self.dims[1] * z);
+                let a = self.cell_start[row + x_lo] as usize;
+                let b = self.cell_start[row + x_hi + 1] as usize;
+                for &j in &self.sorted[a..b] {
+                    f(j);
+                }
+            }
+        }
+    }
+
+    /// Neighbour list of the points this grid was built from (`positions` must be the same
+    /// slice): `j ≠ i` with `|x_i − x_j| < cutoff`. `cutoff` must not exceed the cell size.
+    pub fn neighbor_list(
+        &self,
+        positions: &[D::Vector],
+        cutoff: f64,
+    ) -> Result<NeighborList, Error> {
+        self.query(positions, positions, cutoff, true)
+    }
+
+    /// Contact list: for each point of `queries` (another set), the points of `targets` (the set
+    /// this grid was built from) closer than `cutoff`. Indices refer to `targets`.
+    pub fn contact_list(
+        &self,
+        queries: &[D::Vector],
+        targets: &[D::Vector],
+        cutoff: f64,
+    ) -> Result<NeighborList, Error> {
+        check_finite::<D>(queries)?;
+        self.query(queries, targets, cutoff, false)
+    }
+
+    fn query(
+        &self,
+        queries: &[D::Vector],
+        targets: &[D::Vector],
+        cutoff: f64,
+        exclude_self: bool,
+    ) -> Result<NeighborList, Error> {
+        check_positive("cutoff", cutoff)?;
+        if cutoff > self.cell_size * (1.0 + 1e-12) {
+            return Err(Error::invalid(
+                "cutoff",
+                cutoff,
+                &format!("<= the cell size {}", self.cell_size),
+            ));
+        }
+        if targets.len() != self.sorted.len() {
+            return Err(Error::invalid(
+                "targets",
+                targets.len(),
+                &format!("the {} points the grid was built from", self.sorted.len()),
+            ));
+        }
+        let rc2 = cutoff * cutoff;
+        let blocks: Vec<(Vec<u32>, Vec<u32>)> = queries
+            .par_chunks(BLOCK)
+            .enumerate()
+            .map(|(b, chunk)| {
+                let mut counts = Vec::with_capacity(chunk.len());
+                let mut idx = Vec::with_capacity(chunk.len() * 64);
+                for (k, &xi) in chunk.iter().enumerate() {
+                    let i = (b * BLOCK + k) as u32;
+                    let start = idx.len();
+                    self.for_each_candidate(xi, |j| {
+                        if (!exclude_self || j != i)
+                            && distance_squared::<D>(xi, targets[j as usize]) < rc2
+                        {
+                            idx.push(j);
+                        }
+                    });
+                    idx[start..].sort_unstable();
+                    counts.push((idx.len() - start) as u32);
+                }
+                (counts, idx)
+            })
+            .collect();
+        Ok(NeighborList::from_blocks(queries.len(), blocks))
+    }
+}
+
+/// Neighbour list of `positions` by the cell-linked list (cells of edge `cutoff`).
+pub fn neighbor_list_cells<D: Dim>(
+    positions: &[D::Vector],
+    cutoff: f64,
+) -> Result<NeighborList, Error> {
+    CellGrid::<D>::build(positions, cutoff)?.neighbor_list(positions, cutoff)
+}
+
+/// Neighbour list of `positions` by a kiddo kd-tree; identical to [`neighbor_list_cells`].
+pub fn neighbor_list_kdtree<D: Dim>(
+    positions: &[D::Vector],
+    cutoff: f64,
+) -> Result<NeighborList, Error> {
+    kd_query::<D>(positions, positions, cutoff, true)
+}
+
+/// Contact list of `queries` against `targets` by a kd-tree (indices refer to `targets`).
+pub fn contact_list_kdtree<D: Dim>(
+    queries: &[D::Vector],
+    targets: &[D::Vector],
+    cutoff: f64,
+) -> Result<NeighborList, Error> {
+    kd_query::<D>(queries, targets, cutoff, false)
+}
+
+fn kd_query<D: Dim>(
+    queries: &[D::Vector],
+    targets: &[D::Vector],
+    cutoff: f64,
+    exclude_self: bool,
+) -> Result<NeighborList, Error> {
+    check_positive("cutoff", cutoff)?;
+    check_finite::<D>(queries)?;
+    check_finite::<D>(targets)?;
+    match D::D {
+        2 => kd_query_k::<D, 2>(queries, targets, cutoff, exclude_self),
+        _ => kd_query_k::<D, 3>(queries, targets, cutoff, exclude_self),
+    }
+}
+
+fn kd_query_k<D: Dim, const K: usize>(
+    queries: &[D::Vector],
+    targets: &[D::Vector],
+    cutoff: f64,
+    exclude_self: bool,
+) -> Result<NeighborList, Error> {
+    use kiddo::{ImmutableKdTree, SquaredEuclidean};
+    let to_arr = |x: D::Vector| -> [f64; K] { std::array::from_fn(|k| D::component(x, k)) };
+    if targets.is_empty() {
+        let blocks = vec![(vec![0u32; queries.len()], Vec::new())];
+        return Ok(NeighborList::from_blocks(queries.len(), blocks));
+    }
+    let pts: Vec<[f64; K]> = targets.iter().map(|&x| to_arr(x)).collect();
+    let tree = ImmutableKdTree::<f64, K>::new_from_slice(&pts)
+        .map_err(|e| Error::invalid("kd_tree_points", format!("{e:?}"), "a buildable point set"))?;
+    let rc2 = cutoff * cutoff;
+    // Ask for a slightly larger radius, then filter with `distance_squared`, so the kd-tree
+    // and the cell list agree to the last bit at the cut-off.
+    let query_r2 = rc2 * (1.0 + 1e-9);
+    let blocks: Vec<(Vec<u32>, Vec<u32>)> = queries
+        .par_chunks(BLOCK)
+        .enumerate()
+        .map(|(b, chunk)| {
+            let mut counts = Vec::with_capacity(chunk.len());
+            let mut idx = Vec::with_capacity(chunk.len() * 64);
+            for (k, &xi) in chunk.iter().enumerate() {
+                let i = (b * BLOCK + k) as u32;
+                let start = idx.len();
+                let found = tree
+                    .query(&to_arr(xi))
+                    .within::<SquaredEuclidean<f64>>(query_r2)
+                    .unsorted()
+                    .execute();
+                for item in found {
+                    let j = item.item;
+                    if (!exclude_self || j != i)
+                        && distance_squared::<D>(xi, targets[j as usize]) < rc2
+                    {
+                        idx.push(j);
+                    }
+                }
+                idx[start..].sort_unstable();
+                counts.push((idx.len() - start) as u32);
+            }
+            (counts, idx)
+        })
+        .collect();
+    Ok(NeighborList::from_blocks(queries.len(), blocks))
+}
+
+/// Reorders `data` by a permutation `perm[new] = old` (as returned by
+/// [`CellGrid::cell_order`]).
+pub fn apply_permutation<T: Clone>(perm: &[u32], data: &[T]) -> Vec<T> {
+    perm.iter().map(|&old| data[old as usize].clone()).collect()
+}
+
+/// The inverse permutation (`inv[old] = new`).
+pub fn invert_permutation(perm: &[u32]) -> Vec<u32> {
+    let mut inv = vec![0u32; perm.len()];
+    for (new, &old) in perm.iter().enumerate() {
+        inv[old as usize] = new as u32;
+    }
+    inv
+}
