@@ -24,3 +24,7 @@ pub mod solver;
 pub use dim::{Dim, D2, D3};
 pub use error::Error;
 pub use kernel::{Kernel, WendlandC2};
+pub use neighbor::{CellGrid, NeighborList};
+pub use pairs::PairKernel;
+pub use scene::{Constraint, Constraints, Loads, Probe, TimeFunction};
+pub use solver::{Field, Solver, StepInfo};

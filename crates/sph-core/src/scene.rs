@@ -1,1 +1,506 @@
-//! (being written)
+//! Small types a scene attaches to a body: constraints, body and point forces, and probes.
+//! Each method applies them at the point of its scheme its paper prescribes; a scene that
+//! attaches none pays nothing for them.
+
+use crate::dim::Dim;
+use crate::error::{check_positive, Error};
+use crate::kernel::Kernel;
+use std::fmt;
+use std::sync::Arc;
+
+/// A vector-valued function of time (prescribed velocity, time-dependent force).
+pub struct TimeFunction<D: Dim>(Arc<dyn Fn(f64) -> D::Vector + Send + Sync>);
+
+impl<D: Dim> TimeFunction<D> {
+    /// Wraps a closure `t ↦ value`.
+    pub fn new(f: impl Fn(f64) -> D::Vector + Send + Sync + 'static) -> Self {
+        Self(Arc::new(f))
+    }
+    /// A constant value.
+    pub fn constant(v: D::Vector) -> Self {
+        Self::new(move |_| v)
+    }
+    /// Evaluates at time `t`.
+    #[inline]
+    pub fn at(&self, t: f64) -> D::Vector {
+        (self.0)(t)
+    }
+}
+
+impl<D: Dim> Clone for TimeFunction<D> {
+    fn clone(&self) -> Self {
+        Self(self.0.clone())
+    }
+}
+
+impl<D: Dim> fmt::Debug for TimeFunction<D> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "TimeFunction(value at t=0: {:?})", self.at(0.0))
+    }
+}
+
+/// A kinematic constraint on a set of particles.
+#[derive(Clone, Debug)]
+pub enum Constraint<D: Dim> {
+    /// Particles held fixed (zero velocity, zero acceleration): clamps, bearings.
+    Fixed {
+        /// Constrained particle indices.
+        particles: Vec<u32>,
+    },
+    /// Particles moved with a prescribed velocity `v(t)`: punches, pulled rows, accelerated ends.
+    PrescribedVelocity {
+        /// Constrained particle indices.
+        particles: Vec<u32>,
+        /// The velocity as a function of time.
+        velocity: TimeFunction<D>,
+    },
+    /// Some velocity components held at zero (simple supports: `z` fixed).
+    FixedComponents {
+        /// Constrained particle indices.
+        particles: Vec<u32>,
+        /// Which components (x, y, z) are fixed.
+        components: [bool; 3],
+    },
+}
+
+impl<D: Dim> Constraint<D> {
+    fn particles(&self) -> &[u32] {
+        match self {
+            Constraint::Fixed { particles }
+            | Constraint::PrescribedVelocity { particles, .. }
+            | Constraint::FixedComponents { particles, .. } => particles,
+        }
+    }
+}
+
+/// The constraints of a body, applied in order (a later one overrides an earlier one on the
+/// same particle).
+#[derive(Clone, Debug, Default)]
+pub struct Constraints<D: Dim> {
+    list: Vec<Constraint<D>>,
+}
+
+impl<D: Dim> Constraints<D> {
+    /// No constraints.
+    pub fn new() -> Self {
+        Self { list: Vec::new() }
+    }
+
+    /// Adds a constraint, checking its particle indices against the body size `n`.
+    pub fn push(&mut self, c: Constraint<D>, n: usize) -> Result<(), Error> {
+        if let Some(&bad) = c.particles().iter().find(|&&i| i as usize >= n) {
+            return Err(Error::invalid(
+                "constraint particle index",
+                bad,
+                &format!("0..{n} (the body's particles)"),
+            ));
+        }
+        self.list.push(c);
+        Ok(())
+    }
+
+    /// Whether there are no constraints.
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    /// The constraints.
+    pub fn iter(&self) -> impl Iterator<Item = &Constraint<D>> {
+        self.list.iter()
+    }
+
+    /// Imposes the constraints on velocities at time `t`.
+    pub fn apply_to_velocities(&self, t: f64, v: &mut [D::Vector]) {
+        for c in &self.list {
+            match c {
+                Constraint::Fixed { particles } => {
+                    for &i in particles {
+                        v[i as usize] = D::zero();
+                    }
+                }
+                Constraint::PrescribedVelocity {
+                    particles,
+                    velocity,
+                } => {
+                    let value = velocity.at(t);
+                    for &i in particles {
+                        v[i as usize] = value;
+                    }
+                }
+                Constraint::FixedComponents {
+                    particles,
+                    components,
+                } => {
+                    for &i in particles {
+                        zero_components::<D>(&mut v[i as usize], components);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Removes accelerations along constrained directions (all components for fixed and
+    /// prescribed-velocity particles).
+    pub fn apply_to_accelerations(&self, a: &mut [D::Vector]) {
+        for c in &self.list {
+            match c {
+                Constraint::Fixed { particles }
+                | Constraint::PrescribedVelocity { particles, .. } => {
+                    for &i in particles {
+                        a[i as usize] = D::zero();
+                    }
+                }
+                Constraint::FixedComponents {
+                    particles,
+                    components,
+                } => {
+                    for &i in particles {
+                        zero_components::<D>(&mut a[i as usize], components);
+                    }
+                }
+            }
+        }
+    }
+
+    /// `mask[i]` is true for particles whose motion is fully prescribed (fixed or prescribed
+    /// velocity): excluded from the time-step maxima.
+    pub fn prescribed_mask(&self, n: usize) -> Vec<bool> {
+        let mut mask = vec![false; n];
+        for c in &self.list {
+            if let Constraint::Fixed { particles }
+            | Constraint::PrescribedVelocity { particles, .. } = c
+            {
+                for &i in particles {
+                    mask[i as usize] = true;
+                }
+            }
+        }
+        mask
+    }
+
+    /// Relabels particle indices after a reordering (`inv[old] = new`).
+    pub fn remap(&mut self, inv: &[u32]) {
+        for c in &mut self.list {
+            let p = match c {
+                Constraint::Fixed { particles }
+                | Constraint::PrescribedVelocity { particles, .. }
+                | Constraint::FixedComponents { particles, .. } => particles,
+            };
+            for i in p.iter_mut() {
+                *i = inv[*i as usize];
+            }
+            p.sort_unstable();
+        }
+    }
+}
+
+#[inline]
+fn zero_components<D: Dim>(v: &mut D::Vector, components: &[bool; 3]) {
+    for (k, &fixed) in components.iter().enumerate().take(D::D) {
+        if fixed {
+            D::set_component(v, k, 0.0);
+        }
+    }
+}
+
+/// External loads: a uniform body acceleration (gravity) on all or some particles, and point
+/// forces on single particles (divided by the particle mass).
+#[derive(Clone, Debug, Default)]
+pub struct Loads<D: Dim> {
+    body: Vec<(Option<Vec<u32>>, TimeFunction<D>)>,
+    point: Vec<(u32, TimeFunction<D>)>,
+}
+
+impl<D: Dim> Loads<D> {
+    /// No loads.
+    pub fn new() -> Self {
+        Self {
+            body: Vec::new(),
+            point: Vec::new(),
+        }
+    }
+
+    /// Adds a body acceleration `g(t)` on `particles` (all particles if `None`).
+    pub fn add_body_acceleration(&mut self, particles: Option<Vec<u32>>, g: TimeFunction<D>) {
+        self.body.push((particles, g));
+    }
+
+    /// Adds a point force `f(t)` (newtons) on one particle.
+    pub fn add_point_force(&mut self, particle: u32, f: TimeFunction<D>) {
+        self.point.push((particle, f));
+    }
+
+    /// Whether there are no loads (methods skip the load stage entirely).
+    pub fn is_empty(&self) -> bool {
+        self.body.is_empty() && self.point.is_empty()
+    }
+
+    /// Adds the load accelerations at time `t` to `acc` (`masses` per particle).
+    pub fn add_accelerations(&self, t: f64, masses: &[f64], acc: &mut [D::Vector]) {
+        for (particles, g) in &self.body {
+            let g = g.at(t);
+            match particles {
+                None => acc.iter_mut().for_each(|a| *a += g),
+                Some(p) => p.iter().for_each(|&i| acc[i as usize] += g),
+            }
+        }
+        for (i, f) in &self.point {
+            acc[*i as usize] += f.at(t) / masses[*i as usize];
+        }
+    }
+
+    /// Relabels particle indices after a reordering (`inv[old] = new`).
+    pub fn remap(&mut self, inv: &[u32]) {
+        for (p, _) in &mut self.body {
+            if let Some(p) = p {
+                p.iter_mut().for_each(|i| *i = inv[*i as usize]);
+            }
+        }
+        for (i, _) in &mut self.point {
+            *i = inv[*i as usize];
+        }
+    }
+}
+
+/// What a probe observes.
+#[derive(Clone, Debug)]
+pub enum ProbeTarget<D: Dim> {
+    /// One particle.
+    Particle(u32),
+    /// A material point between particles: its displacement is the Shepard (kernel-weighted)
+    /// average of the displacements of the particles around its reference position, with
+    /// weights `V_j W(|X* − X_j|)` fixed in the reference configuration. Exact for uniform
+    /// displacement, and for linear displacement where the neighbourhood is symmetric (e.g. the
+    /// mid-thickness tip of a plate with an even number of layers).
+    Point {
+        /// Reference position `X*`.
+        reference: D::Vector,
+        /// `(j, normalised weight, X_j)`.
+        weights: Vec<(u32, f64, D::Vector)>,
+    },
+}
+
+/// A time series of a probe's position and velocity.
+#[derive(Clone, Debug)]
+pub struct Probe<D: Dim> {
+    /// Name (used as the HDF5 group name).
+    pub name: String,
+    /// What is observed.
+    pub target: ProbeTarget<D>,
+    /// Recorded times.
+    pub times: Vec<f64>,
+    /// Recorded positions.
+    pub positions: Vec<D::Vector>,
+    /// Recorded velocities.
+    pub velocities: Vec<D::Vector>,
+}
+
+impl<D: Dim> Probe<D> {
+    /// A probe on particle `i`.
+    pub fn particle(name: &str, i: u32) -> Self {
+        Self::with_target(name, ProbeTarget::Particle(i))
+    }
+
+    /// A probe on the material point with reference position `x_star`, interpolated from the
+    /// particles within the kernel support (`reference` positions and `volumes` of the body).
+    pub fn point<K: Kernel>(
+        name: &str,
+        x_star: D::Vector,
+        reference: &[D::Vector],
+        volumes: &[f64],
+        kernel: &K,
+    ) -> Result<Self, Error> {
+        let mut weights: Vec<(u32, f64, D::Vector)> = reference
+            .iter()
+            .enumerate()
+            .filter_map(|(j, &xj)| {
+                let w = volumes[j] * kernel.w(D::norm(x_star - xj));
+                (w > 0.0).then_some((j as u32, w, xj))
+            })
+            .collect();
+        let total: f64 = weights.iter().map(|w| w.1).sum();
+        if weights.is_empty() || total <= 0.0 {
+            return Err(Error::invalid(
+                &format!("probe `{name}` position"),
+                format!("{x_star:?}"),
+                "within the kernel support of at least one particle",
+            ));
+        }
+        weights.iter_mut().for_each(|w| w.1 /= total);
+        Ok(Self::with_target(
+            name,
+            ProbeTarget::Point {
+                reference: x_star,
+                weights,
+            },
+        ))
+    }
+
+    fn with_target(name: &str, target: ProbeTarget<D>) -> Self {
+        Self {
+            name: name.to_string(),
+            target,
+            times: Vec::new(),
+            positions: Vec::new(),
+            velocities: Vec::new(),
+        }
+    }
+
+    /// The probe's current position and velocity.
+    pub fn sample(
+        &self,
+        positions: &[D::Vector],
+        velocities: &[D::Vector],
+    ) -> (D::Vector, D::Vector) {
+        match &self.target {
+            ProbeTarget::Particle(i) => (positions[*i as usize], velocities[*i as usize]),
+            ProbeTarget::Point { reference, weights } => {
+                let mut u = D::zero();
+                let mut v = D::zero();
+                for &(j, w, xj) in weights {
+                    u += (positions[j as usize] - xj) * w;
+                    v += velocities[j as usize] * w;
+                }
+                (*reference + u, v)
+            }
+        }
+    }
+
+    /// Appends the current sample at time `t`.
+    pub fn record(&mut self, t: f64, positions: &[D::Vector], velocities: &[D::Vector]) {
+        let (x, v) = self.sample(positions, velocities);
+        self.times.push(t);
+        self.positions.push(x);
+        self.velocities.push(v);
+    }
+
+    /// Relabels particle indices after a reordering (`inv[old] = new`).
+    pub fn remap(&mut self, inv: &[u32]) {
+        match &mut self.target {
+            ProbeTarget::Particle(i) => *i = inv[*i as usize],
+            ProbeTarget::Point { weights, .. } => {
+                weights.iter_mut().for_each(|w| w.0 = inv[w.0 as usize])
+            }
+        }
+    }
+}
+
+/// How often probes record: every `interval` of simulated time (0 records every step).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProbeSchedule {
+    interval: f64,
+    next: f64,
+}
+
+impl ProbeSchedule {
+    /// Records at `t = 0, interval, 2 interval, ...` (the first step at or after each).
+    pub fn every(interval: f64) -> Result<Self, Error> {
+        if interval != 0.0 {
+            check_positive("probe_interval", interval)?;
+        }
+        Ok(Self {
+            interval,
+            next: 0.0,
+        })
+    }
+
+    /// Whether a sample is due at time `t`; advances the schedule if so.
+    pub fn due(&mut self, t: f64) -> bool {
+        if t + 1e-12 * self.interval.max(t.abs()) < self.next {
+            return false;
+        }
+        if self.interval > 0.0 {
+            // Skip missed slots so a large step does not trigger a burst of samples.
+            self.next = ((t / self.interval).floor() + 1.0) * self.interval;
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dim::D2;
+    use crate::kernel::WendlandC2;
+    use glam::DVec2;
+
+    #[test]
+    fn constraints_fix_prescribe_and_mask_components() {
+        let n = 4;
+        let mut c = Constraints::<D2>::new();
+        c.push(Constraint::Fixed { particles: vec![0] }, n).unwrap();
+        c.push(
+            Constraint::PrescribedVelocity {
+                particles: vec![1],
+                velocity: TimeFunction::new(|t| DVec2::new(0.0, 2.0 * t)),
+            },
+            n,
+        )
+        .unwrap();
+        c.push(
+            Constraint::FixedComponents {
+                particles: vec![2],
+                components: [false, true, false],
+            },
+            n,
+        )
+        .unwrap();
+        let mut v = vec![DVec2::ONE; n];
+        c.apply_to_velocities(1.5, &mut v);
+        assert_eq!(
+            v,
+            vec![
+                DVec2::ZERO,
+                DVec2::new(0.0, 3.0),
+                DVec2::new(1.0, 0.0),
+                DVec2::ONE
+            ]
+        );
+        let mut a = vec![DVec2::ONE; n];
+        c.apply_to_accelerations(&mut a);
+        assert_eq!(
+            a,
+            vec![DVec2::ZERO, DVec2::ZERO, DVec2::new(1.0, 0.0), DVec2::ONE]
+        );
+        assert_eq!(c.prescribed_mask(n), vec![true, true, false, false]);
+        let e = c
+            .push(Constraint::Fixed { particles: vec![9] }, n)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("constraint particle index"), "{e}");
+    }
+
+    #[test]
+    fn point_probe_reproduces_uniform_and_symmetric_linear_displacement() {
+        // 2 × 2 block of particles around the origin; a probe at the centre.
+        let dp = 0.1;
+        let x0: Vec<DVec2> = [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)]
+            .iter()
+            .map(|&(a, b)| DVec2::new(a * dp, b * dp))
+            .collect();
+        let k = WendlandC2::<D2>::from_spacing(dp, 1.15).unwrap();
+        let p = Probe::<D2>::point("tip", DVec2::ZERO, &x0, &[dp * dp; 4], &k).unwrap();
+        let shift = DVec2::new(0.3, -0.2);
+        let x: Vec<DVec2> = x0.iter().map(|&x| x + shift).collect();
+        let (xp, _) = p.sample(&x, &x);
+        // Tolerance: exact up to round-off of a 4-term weighted sum.
+        assert!((xp - shift).length() < 1e-15);
+        let g = glam::DMat2::from_cols_array(&[1.1, 0.2, -0.3, 0.9]);
+        let x: Vec<DVec2> = x0.iter().map(|&x| g * x).collect();
+        let (xp, _) = p.sample(&x, &x);
+        assert!(xp.length() < 1e-15, "{xp:?}");
+        let far = Probe::<D2>::point("far", DVec2::new(5.0, 5.0), &x0, &[dp * dp; 4], &k);
+        assert!(far.unwrap_err().to_string().contains("probe `far`"));
+    }
+
+    #[test]
+    fn probe_schedule_samples_once_per_interval() {
+        let mut s = ProbeSchedule::every(0.1).unwrap();
+        let due: Vec<bool> = [0.0, 0.05, 0.1, 0.12, 0.35, 0.36, 0.4]
+            .iter()
+            .map(|&t| s.due(t))
+            .collect();
+        assert_eq!(due, vec![true, false, true, false, true, false, true]);
+        assert!(ProbeSchedule::every(-1.0).is_err());
+    }
+}

@@ -1,1 +1,93 @@
-//! (being written)
+//! The [`Solver`] trait every method implements, and the output field type.
+
+use crate::dim::Dim;
+use crate::error::Error;
+use crate::scene::Probe;
+
+/// A named per-particle output field, computed on demand (only when written).
+#[derive(Clone, Debug)]
+pub enum Field<D: Dim> {
+    /// One scalar per particle (von Mises stress, J, density, disorder).
+    Scalar(Vec<f64>),
+    /// One vector per particle.
+    Vector(Vec<D::Vector>),
+    /// One matrix per particle (deformation gradient, stress).
+    Matrix(Vec<D::Matrix>),
+}
+
+/// What one step did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepInfo {
+    /// The time step taken.
+    pub dt: f64,
+    /// Simulated time after the step.
+    pub time: f64,
+    /// Steps taken so far (after this one).
+    pub step: u64,
+}
+
+/// A particle method advancing one body (or a set of interacting bodies) in time.
+pub trait Solver<D: Dim>: Send {
+    /// Method name as the command line spells it (`tl-hf`, `ul-enog`, `mps`, ...).
+    fn method(&self) -> &'static str;
+
+    /// Advances by one step of `min(stable Δt, max_dt)`, so a caller can land exactly on
+    /// snapshot times. Errors stop the run cleanly (non-finite values, lost neighbours), leaving
+    /// the state of the last good step readable.
+    fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error>;
+
+    /// The stable time step the next step would take (before the `max_dt` cap).
+    fn stable_dt(&self) -> f64;
+
+    /// Simulated time.
+    fn time(&self) -> f64;
+
+    /// Steps taken.
+    fn step_count(&self) -> u64;
+
+    /// Number of particles.
+    fn len(&self) -> usize {
+        self.positions().len()
+    }
+
+    /// Whether the body has no particles (never true for a validly built solver).
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Current positions.
+    fn positions(&self) -> &[D::Vector];
+
+    /// Current velocities.
+    fn velocities(&self) -> &[D::Vector];
+
+    /// Names of the fields [`Solver::field`] can compute.
+    fn field_names(&self) -> Vec<&'static str>;
+
+    /// Computes a named output field, or `None` for an unknown name.
+    fn field(&self, name: &str) -> Option<Field<D>>;
+
+    /// The probes attached by the scene, with what they recorded.
+    fn probes(&self) -> &[Probe<D>];
+
+    /// Advances until `time() ≥ t_end` (the last step is shortened to land on it). Returns the
+    /// number of steps taken.
+    fn advance_to(&mut self, t_end: f64) -> Result<u64, Error> {
+        let mut n = 0;
+        while self.time() < t_end {
+            let remaining = t_end - self.time();
+            // Guard against a last step too small to change `time` in floating point.
+            if remaining <= 1e-14 * t_end.abs().max(1e-300) {
+                break;
+            }
+            self.step(remaining)?;
+            n += 1;
+        }
+        Ok(n)
+    }
+}
+
+/// Index of the first non-finite vector, if any (run-time blow-up detection).
+pub fn first_non_finite<D: Dim>(v: &[D::Vector]) -> Option<usize> {
+    v.iter().position(|&x| !D::is_finite(x))
+}
