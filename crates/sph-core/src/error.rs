@@ -102,6 +102,10 @@ pub fn check_open_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<(),
     if value.is_finite() && value > lo && value < hi {
         Ok(())
     } else {
-        Err(Error::invalid(field, value, &format!("{lo} < {field} < {hi}")))
+        Err(Error::invalid(
+            field,
+            value,
+            &format!("{lo} < {field} < {hi}"),
+        ))
     }
 }

@@ -9,6 +9,8 @@
 //! Conventions (METHODS.md): particle `i`, neighbour `j`; `x_ij = x_i − x_j`, `e_ij = x_ij/r_ij`
 //! points from `j` to `i`; `∇_i W_ij = W′(r_ij) e_ij` with `W′ ≤ 0`.
 #![deny(missing_docs)]
+// Per-axis loops index several small arrays at once; iterator chains would obscure them.
+#![allow(clippy::needless_range_loop)]
 
 pub mod correction;
 pub mod dim;

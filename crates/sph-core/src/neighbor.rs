@@ -107,6 +107,18 @@ impl NeighborList {
     }
 
     /// Concatenates per-block results (counts and indices per block, in block order).
+    /// Sorts every row ascending (the canonical order, in parallel over rows).
+    pub fn sort_rows(&mut self) {
+        let mut rows: Vec<&mut [u32]> = Vec::with_capacity(self.len());
+        let mut rest: &mut [u32] = &mut self.indices;
+        for w in self.offsets.windows(2) {
+            let (row, tail) = std::mem::take(&mut rest).split_at_mut(w[1] - w[0]);
+            rows.push(row);
+            rest = tail;
+        }
+        rows.par_iter_mut().for_each(|r| r.sort_unstable());
+    }
+
     fn from_blocks(n: usize, blocks: Vec<(Vec<u32>, Vec<u32>)>) -> Self {
         let total: usize = blocks.iter().map(|b| b.1.len()).sum();
         let mut offsets = Vec::with_capacity(n + 1);
@@ -148,6 +160,9 @@ pub struct CellGrid<D: Dim> {
     cell_start: Vec<u32>,
     /// Particle indices in cell order (the permutation `new → old`).
     sorted: Vec<u32>,
+    /// Positions in cell order (`sorted_pos[k] = positions[sorted[k]]`), so the candidate scan
+    /// reads memory contiguously whatever the particles' own order.
+    sorted_pos: Vec<D::Vector>,
 }
 
 /// Upper bound on the number of cells relative to the particle count: a particle flying far away
@@ -207,6 +222,7 @@ impl<D: Dim> CellGrid<D> {
             dims,
             cell_start: Vec::new(),
             sorted: Vec::new(),
+            sorted_pos: Vec::new(),
         };
         // Counting sort: cell of each particle, counts, prefix sum, stable scatter.
         let ncell = dims[0] * dims[1] * dims[2];
@@ -228,6 +244,7 @@ impl<D: Dim> CellGrid<D> {
             sorted[*slot as usize] = i as u32;
             *slot += 1;
         }
+        grid.sorted_pos = sorted.iter().map(|&i| positions[i as usize]).collect();
         grid.cell_start = start;
         grid.sorted = sorted;
         Ok(grid)
@@ -275,6 +292,13 @@ impl<D: Dim> CellGrid<D> {
     /// its own cell): the candidates of a radius query with radius ≤ the cell size.
     #[inline(always)]
     pub fn for_each_candidate(&self, x: D::Vector, mut f: impl FnMut(u32)) {
+        self.for_each_candidate_at(x, |j, _| f(j));
+    }
+
+    /// As [`Self::for_each_candidate`], also passing the candidate's position (read from the
+    /// grid's cell-ordered copy, contiguous in memory).
+    #[inline(always)]
+    pub fn for_each_candidate_at(&self, x: D::Vector, mut f: impl FnMut(u32, D::Vector)) {
         // A point outside the grid is clamped to the border cells; candidates are then still a
         // superset of the particles within one cell edge, because the grid encloses them all.
         let c = self.cell_coords(x);
@@ -287,8 +311,8 @@ impl<D: Dim> CellGrid<D> {
                 let row = self.dims[0] * (y + self.dims[1] * z);
                 let a = self.cell_start[row + x_lo] as usize;
                 let b = self.cell_start[row + x_hi + 1] as usize;
-                for &j in &self.sorted[a..b] {
-                    f(j);
+                for (&j, &xj) in self.sorted[a..b].iter().zip(&self.sorted_pos[a..b]) {
+                    f(j, xj);
                 }
             }
         }
@@ -296,6 +320,10 @@ impl<D: Dim> CellGrid<D> {
 
     /// Neighbour list of the points this grid was built from (`positions` must be the same
     /// slice): `j ≠ i` with `|x_i − x_j| < cutoff`. `cutoff` must not exceed the cell size.
+    ///
+    /// Each row lists its neighbours in cell-scan order (deterministic: it depends only on the
+    /// positions, not on threads). Sorting the rows costs about as much again as the search, so it
+    /// is left to [`NeighborList::sort_rows`] for callers that need the canonical order.
     pub fn neighbor_list(
         &self,
         positions: &[D::Vector],
@@ -305,7 +333,8 @@ impl<D: Dim> CellGrid<D> {
     }
 
     /// Contact list: for each point of `queries` (another set), the points of `targets` (the set
-    /// this grid was built from) closer than `cutoff`. Indices refer to `targets`.
+    /// this grid was built from) closer than `cutoff`. Indices refer to `targets`; rows are in
+    /// cell-scan order as in [`Self::neighbor_list`].
     pub fn contact_list(
         &self,
         queries: &[D::Vector],
@@ -348,14 +377,11 @@ impl<D: Dim> CellGrid<D> {
                 for (k, &xi) in chunk.iter().enumerate() {
                     let i = (b * BLOCK + k) as u32;
                     let start = idx.len();
-                    self.for_each_candidate(xi, |j| {
-                        if (!exclude_self || j != i)
-                            && distance_squared::<D>(xi, targets[j as usize]) < rc2
-                        {
+                    self.for_each_candidate_at(xi, |j, xj| {
+                        if (!exclude_self || j != i) && distance_squared::<D>(xi, xj) < rc2 {
                             idx.push(j);
                         }
                     });
-                    idx[start..].sort_unstable();
                     counts.push((idx.len() - start) as u32);
                 }
                 (counts, idx)
@@ -365,15 +391,19 @@ impl<D: Dim> CellGrid<D> {
     }
 }
 
-/// Neighbour list of `positions` by the cell-linked list (cells of edge `cutoff`).
+/// Neighbour list of `positions` by the cell-linked list (cells of edge `cutoff`), rows sorted
+/// ascending: the canonical list, identical to [`neighbor_list_kdtree`].
 pub fn neighbor_list_cells<D: Dim>(
     positions: &[D::Vector],
     cutoff: f64,
 ) -> Result<NeighborList, Error> {
-    CellGrid::<D>::build(positions, cutoff)?.neighbor_list(positions, cutoff)
+    let mut list = CellGrid::<D>::build(positions, cutoff)?.neighbor_list(positions, cutoff)?;
+    list.sort_rows();
+    Ok(list)
 }
 
-/// Neighbour list of `positions` by a kiddo kd-tree; identical to [`neighbor_list_cells`].
+/// Neighbour list of `positions` by a kiddo kd-tree, rows sorted ascending; identical to
+/// [`neighbor_list_cells`].
 pub fn neighbor_list_kdtree<D: Dim>(
     positions: &[D::Vector],
     cutoff: f64,
@@ -381,7 +411,8 @@ pub fn neighbor_list_kdtree<D: Dim>(
     kd_query::<D>(positions, positions, cutoff, true)
 }
 
-/// Contact list of `queries` against `targets` by a kd-tree (indices refer to `targets`).
+/// Contact list of `queries` against `targets` by a kd-tree (indices refer to `targets`, rows
+/// sorted ascending).
 pub fn contact_list_kdtree<D: Dim>(
     queries: &[D::Vector],
     targets: &[D::Vector],
