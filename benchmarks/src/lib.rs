@@ -1,1 +1,159 @@
-//! Benchmark helpers.
+//! Shared set-up for the throughput benchmarks and the generator of `docs/performance.md`.
+//!
+//! Every criterion benchmark of the workspace lives in `benches/`; each describes itself here (a
+//! [`BenchSpec`]) so that the `perf-report` binary can find its results under
+//! `target/criterion/` and render them as a table without anyone copying numbers by hand.
+#![deny(missing_docs)]
+
+use glam::DVec3;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// The neighbour-search benchmark: a jittered 3D lattice of `per_axis³` particles.
+#[derive(Clone, Copy, Debug)]
+pub struct NeighborBench {
+    /// Criterion group name.
+    pub group: &'static str,
+    /// Lattice points per axis (47³ = 103,823 particles).
+    pub per_axis: usize,
+    /// Smoothing length in units of the spacing (cut-off 2h).
+    pub h_over_dp: f64,
+    /// Uniform random displacement, in units of dp, applied to every lattice point.
+    pub jitter: f64,
+}
+
+/// The neighbour-search benchmark's parameters.
+pub const NEIGHBOR_BENCH: NeighborBench = NeighborBench {
+    group: "neighbor-search-3d",
+    per_axis: 47,
+    h_over_dp: 1.3,
+    jitter: 0.1,
+};
+
+/// A `n³` lattice of spacing `1/n` with every point displaced by up to `±jitter·dp` per axis
+/// (deterministic SplitMix64 stream), so that distances are not all ties. Returns the points and dp.
+pub fn jittered_lattice_3d(n: usize, jitter: f64) -> (Vec<DVec3>, f64) {
+    let dp = 1.0 / n as f64;
+    let mut rng = SplitMix64(0x5eed);
+    let mut out = Vec::with_capacity(n * n * n);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let base = DVec3::new(i as f64 + 0.5, j as f64 + 0.5, k as f64 + 0.5) * dp;
+                let d = DVec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 2.0 - 1.0;
+                out.push(base + d * jitter * dp);
+            }
+        }
+    }
+    (out, dp)
+}
+
+/// A rayon pool of exactly `threads` threads (benchmarks run each variant inside `install`).
+pub fn thread_pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("rayon thread pool")
+}
+
+/// SplitMix64: a tiny deterministic generator for benchmark inputs.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn uniform(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A criterion point estimate with its confidence interval, in nanoseconds.
+#[derive(Clone, Copy, Debug, Deserialize)]
+pub struct Estimate {
+    /// Point estimate.
+    pub point_estimate: f64,
+    /// Confidence interval.
+    pub confidence_interval: Interval,
+}
+
+/// Criterion's confidence interval.
+#[derive(Clone, Copy, Debug, Deserialize)]
+pub struct Interval {
+    /// Lower bound.
+    pub lower_bound: f64,
+    /// Upper bound.
+    pub upper_bound: f64,
+}
+
+#[derive(Deserialize)]
+struct Estimates {
+    mean: Estimate,
+}
+
+/// Criterion's sanitised directory name for a group, function or parameter.
+fn sanitize(s: &str) -> String {
+    s.chars()
+        .map(|c| match c {
+            '/' | '\\' | '?' | '"' | '<' | '>' | '|' | ':' | '*' => '_',
+            c => c,
+        })
+        .collect()
+}
+
+/// The mean time per iteration (ns) of one criterion benchmark, if it has been run.
+pub fn read_mean(
+    criterion_dir: &Path,
+    group: &str,
+    function: &str,
+    param: &str,
+) -> Option<Estimate> {
+    let path: PathBuf = criterion_dir
+        .join(sanitize(group))
+        .join(sanitize(function))
+        .join(sanitize(param))
+        .join("new")
+        .join("estimates.json");
+    let text = std::fs::read_to_string(path).ok()?;
+    let e: Estimates = serde_json::from_str(&text).ok()?;
+    Some(e.mean)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_has_the_requested_size_and_stays_in_its_cells() {
+        let (p, dp) = jittered_lattice_3d(5, 0.1);
+        assert_eq!(p.len(), 125);
+        // Jitter ±0.1 dp keeps every point inside its own lattice cell.
+        for (n, x) in p.iter().enumerate() {
+            let cell = ((x / dp).floor()).as_uvec3();
+            assert_eq!(
+                cell.x as usize + 5 * (cell.y as usize + 5 * cell.z as usize),
+                n
+            );
+        }
+    }
+
+    #[test]
+    fn reads_criterion_estimates() {
+        let dir = std::env::temp_dir().join(format!("sph-bench-read-{}", std::process::id()));
+        let leaf = dir.join("g_x").join("f").join("1-thread").join("new");
+        std::fs::create_dir_all(&leaf).unwrap();
+        std::fs::write(
+            leaf.join("estimates.json"),
+            r#"{"mean":{"confidence_interval":{"confidence_level":0.95,"lower_bound":1.0,"upper_bound":3.0},"point_estimate":2.0,"standard_error":0.1}}"#,
+        )
+        .unwrap();
+        let e = read_mean(&dir, "g/x", "f", "1-thread").unwrap();
+        assert_eq!(e.point_estimate, 2.0);
+        assert!(read_mean(&dir, "g/x", "f", "2-thread").is_none());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
