@@ -1,0 +1,269 @@
+//! The layout, shared by both backends: validation, naming, JSON → attributes, tmp + rename,
+//! and the bookkeeping the XDMF sidecar needs. A backend only implements [`Sink`].
+
+use std::path::{Path, PathBuf};
+
+use serde_json::{Map, Value};
+
+use crate::data::{check_name, Dataset};
+use crate::xdmf::{self, XdmfField, XdmfSnapshot};
+use crate::{OutputError, ResultWriter, FORMAT_NAME, FORMAT_VERSION};
+
+/// An attribute value, in the types both backends write identically.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Attr {
+    F64(f64),
+    I64(i64),
+    U64(u64),
+    U8(u8),
+    /// Variable-length UTF-8 string.
+    Str(String),
+}
+
+/// One group with its attributes and datasets, written as a unit.
+pub(crate) struct GroupSpec<'a> {
+    /// Path below the root, e.g. `snapshots/000003`.
+    pub path: String,
+    pub attrs: Vec<(String, Attr)>,
+    pub datasets: Vec<&'a Dataset>,
+}
+
+/// What a backend provides. Each call must be durable in the file when it returns.
+pub(crate) trait Sink: Send {
+    /// Writes a new group (`replace`: deleting an existing one at that path first).
+    fn write_group(&mut self, group: &GroupSpec<'_>, replace: bool) -> Result<(), OutputError>;
+    /// Closes the file; all data must be on disk afterwards.
+    fn close(self: Box<Self>) -> Result<(), OutputError>;
+}
+
+/// Creates the temporary file with the root attributes and the empty groups `meta`,
+/// `snapshots`, `probes`, `summary`.
+pub(crate) type SinkFactory = fn(&Path, &[(String, Attr)]) -> Result<Box<dyn Sink>, OutputError>;
+
+pub(crate) const TOP_GROUPS: [&str; 4] = ["meta", "snapshots", "probes", "summary"];
+
+pub(crate) struct LayoutWriter {
+    tmp: PathBuf,
+    h5: PathBuf,
+    xmf: PathBuf,
+    sink: Box<dyn Sink>,
+    snapshots: Vec<XdmfSnapshot>,
+    probes: Vec<String>,
+}
+
+impl LayoutWriter {
+    pub(crate) fn new(path_without_ext: &Path, factory: SinkFactory) -> Result<Self, OutputError> {
+        let tmp = crate::tmp_path(path_without_ext);
+        let h5 = crate::h5_path(path_without_ext);
+        let xmf = crate::xmf_path(path_without_ext);
+        if tmp.exists() {
+            std::fs::remove_file(&tmp).map_err(|e| OutputError::io(&tmp, "remove stale", e))?;
+        }
+        let root_attrs = vec![
+            ("format".to_string(), Attr::Str(FORMAT_NAME.to_string())),
+            ("format_version".to_string(), Attr::U64(FORMAT_VERSION)),
+        ];
+        let sink = factory(&tmp, &root_attrs)?;
+        Ok(LayoutWriter {
+            tmp,
+            h5,
+            xmf,
+            sink,
+            snapshots: Vec::new(),
+            probes: Vec::new(),
+        })
+    }
+
+    fn write_json_group(
+        &mut self,
+        group: &str,
+        map: &Map<String, Value>,
+    ) -> Result<(), OutputError> {
+        let attrs = json_attrs(map).map_err(|m| OutputError::invalid(&self.tmp, m))?;
+        self.sink.write_group(
+            &GroupSpec {
+                path: group.to_string(),
+                attrs,
+                datasets: Vec::new(),
+            },
+            true,
+        )
+    }
+}
+
+/// Snapshot group name: at least six digits, zero padded.
+pub(crate) fn snapshot_name(index: usize) -> String {
+    format!("{index:06}")
+}
+
+/// JSON map → attributes (see the crate docs), plus `json` with the whole map.
+pub(crate) fn json_attrs(map: &Map<String, Value>) -> Result<Vec<(String, Attr)>, String> {
+    let mut attrs = Vec::with_capacity(map.len() + 1);
+    for (key, value) in map {
+        if key == "json" || check_name(key).is_err() {
+            continue;
+        }
+        let attr = match value {
+            Value::Null => continue,
+            Value::Bool(b) => Attr::U8(u8::from(*b)),
+            Value::Number(n) => {
+                if let Some(u) = n.as_u64() {
+                    Attr::U64(u)
+                } else if let Some(i) = n.as_i64() {
+                    Attr::I64(i)
+                } else if let Some(f) = n.as_f64() {
+                    Attr::F64(f)
+                } else {
+                    Attr::Str(n.to_string())
+                }
+            }
+            Value::String(s) => {
+                if s.contains('\0') {
+                    // A C string cannot hold it; the value is still in `json`.
+                    continue;
+                }
+                Attr::Str(s.clone())
+            }
+            Value::Array(_) | Value::Object(_) => Attr::Str(value.to_string()),
+        };
+        attrs.push((key.clone(), attr));
+    }
+    let json = serde_json::to_string(map).map_err(|e| format!("serialising JSON: {e}"))?;
+    attrs.push(("json".to_string(), Attr::Str(json)));
+    Ok(attrs)
+}
+
+impl ResultWriter for LayoutWriter {
+    fn write_meta(&mut self, meta: &Map<String, Value>) -> Result<(), OutputError> {
+        self.write_json_group("meta", meta)
+    }
+
+    fn write_snapshot(
+        &mut self,
+        time: f64,
+        step: u64,
+        datasets: &[Dataset],
+    ) -> Result<(), OutputError> {
+        let invalid = |m: String| OutputError::invalid(&self.tmp, format!("snapshot: {m}"));
+        let mut names = std::collections::BTreeSet::new();
+        for ds in datasets {
+            ds.validate().map_err(invalid)?;
+            if !names.insert(ds.name.as_str()) {
+                return Err(invalid(format!("dataset name {:?} used twice", ds.name)));
+            }
+        }
+        let position = datasets.iter().find(|d| d.name == "position");
+        if let Some(p) = position {
+            let s = p.shape();
+            if p.data.type_name() != "f64" || s.len() != 2 || s[1] != 3 {
+                return Err(invalid(format!(
+                    "`position` must be f64 [n, 3] (2D padded with z = 0), got {} {s:?}",
+                    p.data.type_name()
+                )));
+            }
+        }
+        let name = snapshot_name(self.snapshots.len());
+        let spec = GroupSpec {
+            path: format!("snapshots/{name}"),
+            attrs: vec![
+                ("time".to_string(), Attr::F64(time)),
+                ("step".to_string(), Attr::U64(step)),
+            ],
+            datasets: datasets.iter().collect(),
+        };
+        self.sink.write_group(&spec, false)?;
+        self.snapshots.push(XdmfSnapshot {
+            name,
+            time,
+            fields: datasets
+                .iter()
+                .map(|d| XdmfField {
+                    name: d.name.clone(),
+                    is_u64: d.data.type_name() == "u64",
+                    shape: d.shape().to_vec(),
+                })
+                .collect(),
+        });
+        Ok(())
+    }
+
+    fn write_probe(
+        &mut self,
+        name: &str,
+        times: &[f64],
+        positions: &[[f64; 3]],
+        velocities: &[[f64; 3]],
+    ) -> Result<(), OutputError> {
+        check_name(name)
+            .map_err(|e| OutputError::invalid(&self.tmp, format!("probe name {name:?}: {e}")))?;
+        if self.probes.iter().any(|p| p == name) {
+            return Err(OutputError::invalid(
+                &self.tmp,
+                format!("probe {name:?} written twice"),
+            ));
+        }
+        if positions.len() != times.len() || velocities.len() != times.len() {
+            return Err(OutputError::invalid(
+                &self.tmp,
+                format!(
+                    "probe {name:?}: {} times, {} positions, {} velocities (must be equal)",
+                    times.len(),
+                    positions.len(),
+                    velocities.len()
+                ),
+            ));
+        }
+        let t = Dataset::scalars("time", times);
+        let p = Dataset::vectors("position", positions);
+        let v = Dataset::vectors("velocity", velocities);
+        self.sink.write_group(
+            &GroupSpec {
+                path: format!("probes/{name}"),
+                attrs: Vec::new(),
+                datasets: vec![&t, &p, &v],
+            },
+            false,
+        )?;
+        self.probes.push(name.to_string());
+        Ok(())
+    }
+
+    fn write_summary(&mut self, summary: &Map<String, Value>) -> Result<(), OutputError> {
+        self.write_json_group("summary", summary)
+    }
+
+    fn finish(self: Box<Self>) -> Result<PathBuf, OutputError> {
+        let LayoutWriter {
+            tmp,
+            h5,
+            xmf,
+            sink,
+            snapshots,
+            ..
+        } = *self;
+        sink.close()?;
+        sync_file(&tmp)?;
+        std::fs::rename(&tmp, &h5).map_err(|e| OutputError::io(&tmp, "rename to .h5", e))?;
+        let h5_name = h5
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let text = xdmf::render(&h5_name, &snapshots);
+        let xmf_tmp = crate::with_suffix(&xmf, ".tmp");
+        std::fs::write(&xmf_tmp, text).map_err(|e| OutputError::io(&xmf_tmp, "write", e))?;
+        sync_file(&xmf_tmp)?;
+        std::fs::rename(&xmf_tmp, &xmf)
+            .map_err(|e| OutputError::io(&xmf_tmp, "rename to .xmf", e))?;
+        Ok(h5)
+    }
+
+    fn final_path(&self) -> &Path {
+        &self.h5
+    }
+}
+
+fn sync_file(path: &Path) -> Result<(), OutputError> {
+    std::fs::File::open(path)
+        .and_then(|f| f.sync_all())
+        .map_err(|e| OutputError::io(path, "sync", e))
+}

@@ -1,0 +1,146 @@
+//! The XDMF 3 sidecar that lets ParaView open the snapshots of a results file.
+//!
+//! One `Grid` collection (`CollectionType="Temporal"`) holds one uniform grid per snapshot
+//! that has a `position` dataset (a snapshot without one has no geometry and is left out of
+//! the sidecar, though it stays in the `.h5`). Each grid has
+//!
+//! * a `Polyvertex` topology of `n` elements (`n` = rows of `position`),
+//! * an `XYZ` geometry read from `/snapshots/<k>/position` (`[n, 3]`, 2D padded `z = 0`),
+//! * one `Center="Node"` attribute per other dataset whose first dimension is `n`, typed by
+//!   shape: `[n]` or `[n, 1]` → `Scalar`, `[n, 3]` → `Vector`, `[n, 6]` → `Tensor6`,
+//!   `[n, 3, 3]` or `[n, 9]` → `Tensor`, anything else → `Matrix`. Datasets of another first
+//!   dimension are not per-particle and are not listed.
+//!
+//! Data items reference the `.h5` by its bare file name, so the pair can be moved together.
+
+use std::fmt::Write as _;
+
+/// One field of a snapshot, as far as the sidecar needs it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct XdmfField {
+    pub name: String,
+    pub is_u64: bool,
+    pub shape: Vec<usize>,
+}
+
+/// One snapshot, as far as the sidecar needs it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct XdmfSnapshot {
+    pub name: String,
+    pub time: f64,
+    pub fields: Vec<XdmfField>,
+}
+
+/// The XDMF attribute type for a per-particle dataset of this shape (first dimension = the
+/// particle count).
+pub fn attribute_type(shape: &[usize]) -> &'static str {
+    match shape {
+        [_] | [_, 1] => "Scalar",
+        [_, 3] => "Vector",
+        [_, 6] => "Tensor6",
+        [_, 9] | [_, 3, 3] => "Tensor",
+        _ => "Matrix",
+    }
+}
+
+/// Escapes text for XML content and attribute values.
+pub fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+fn data_item(out: &mut String, h5_name: &str, snap: &str, field: &XdmfField, indent: &str) {
+    let dims: Vec<String> = field.shape.iter().map(usize::to_string).collect();
+    let (number_type, precision) = if field.is_u64 {
+        ("UInt", 8)
+    } else {
+        ("Float", 8)
+    };
+    let _ = writeln!(
+        out,
+        "{indent}<DataItem Dimensions=\"{}\" NumberType=\"{number_type}\" Precision=\"{precision}\" Format=\"HDF\">{}:/snapshots/{}/{}</DataItem>",
+        dims.join(" "),
+        escape(h5_name),
+        escape(snap),
+        escape(&field.name),
+    );
+}
+
+/// Renders the sidecar for `snapshots` of the file `h5_name` (a bare file name).
+pub(crate) fn render(h5_name: &str, snapshots: &[XdmfSnapshot]) -> String {
+    let mut out = String::new();
+    out.push_str("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
+    out.push_str("<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n");
+    out.push_str("<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n");
+    out.push_str("  <Domain>\n");
+    out.push_str(
+        "    <Grid Name=\"snapshots\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+    );
+    for snap in snapshots {
+        let Some(pos) = snap.fields.iter().find(|f| f.name == "position") else {
+            continue;
+        };
+        let n = pos.shape[0];
+        let _ = writeln!(
+            out,
+            "      <Grid Name=\"{}\" GridType=\"Uniform\">",
+            escape(&snap.name)
+        );
+        let _ = writeln!(out, "        <Time Value=\"{:?}\"/>", snap.time);
+        let _ = writeln!(
+            out,
+            "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{n}\" NodesPerElement=\"1\"/>"
+        );
+        out.push_str("        <Geometry GeometryType=\"XYZ\">\n");
+        data_item(&mut out, h5_name, &snap.name, pos, "          ");
+        out.push_str("        </Geometry>\n");
+        for field in &snap.fields {
+            if field.name == "position" || field.shape.first() != Some(&n) {
+                continue;
+            }
+            let _ = writeln!(
+                out,
+                "        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">",
+                escape(&field.name),
+                attribute_type(&field.shape)
+            );
+            data_item(&mut out, h5_name, &snap.name, field, "          ");
+            out.push_str("        </Attribute>\n");
+        }
+        out.push_str("      </Grid>\n");
+    }
+    out.push_str("    </Grid>\n");
+    out.push_str("  </Domain>\n");
+    out.push_str("</Xdmf>\n");
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn attribute_types_by_shape() {
+        assert_eq!(attribute_type(&[5]), "Scalar");
+        assert_eq!(attribute_type(&[5, 1]), "Scalar");
+        assert_eq!(attribute_type(&[5, 3]), "Vector");
+        assert_eq!(attribute_type(&[5, 3, 3]), "Tensor");
+        assert_eq!(attribute_type(&[5, 6]), "Tensor6");
+        assert_eq!(attribute_type(&[5, 2, 2]), "Matrix");
+    }
+
+    #[test]
+    fn escapes_markup() {
+        assert_eq!(escape("a<b>&\"'"), "a&lt;b&gt;&amp;&quot;&apos;");
+    }
+}

@@ -1,0 +1,166 @@
+//! Shared test content: the same run written through any backend.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use serde_json::{json, Map, Value};
+use sph_output::{create_writer, Backend, Dataset, ResultWriter};
+
+pub const N: usize = 7;
+
+pub fn meta() -> Map<String, Value> {
+    json!({
+        "case": "cantilever <beam> & \"friends\"",
+        "dim": 2,
+        "dx": 0.01,
+        "offset": -3,
+        "huge": u64::MAX,
+        "parallel": true,
+        "material": {"E": 2.0e11, "nu": 0.3},
+        "tags": ["a", "b"],
+        "nothing": null,
+        "json": "a key named json",
+    })
+    .as_object()
+    .unwrap()
+    .clone()
+}
+
+pub fn summary() -> Map<String, Value> {
+    json!({
+        "status": "failed",
+        "reason": "energy blew up at step 1200",
+        "steps": 1200u64,
+        "wall_time_s": 12.345678901234567,
+        "ok": false,
+    })
+    .as_object()
+    .unwrap()
+    .clone()
+}
+
+/// Awkward but exact f64 values (sub-normals, negative zero, large exponents).
+fn val(k: usize, i: usize, c: usize) -> f64 {
+    let x = (k * 1000 + i * 10 + c) as f64;
+    match (k + i + c) % 5 {
+        0 => x * 0.1 + 1.0 / 3.0,
+        1 => -x * 1e-300,
+        2 => 5e-324 * x,
+        3 => -0.0,
+        _ => x.sqrt() * 1e200,
+    }
+}
+
+pub fn snapshot(k: usize) -> (f64, u64, Vec<Dataset>) {
+    let pos: Vec<[f64; 2]> = (0..N).map(|i| [val(k, i, 0), val(k, i, 1)]).collect();
+    let vel: Vec<[f64; 3]> = (0..N)
+        .map(|i| [val(k, i, 2), val(k, i, 3), val(k, i, 4)])
+        .collect();
+    let rho: Vec<f64> = (0..N).map(|i| val(k, i, 5)).collect();
+    let stress: Vec<[[f64; 2]; 2]> = (0..N)
+        .map(|i| [[val(k, i, 6), val(k, i, 7)], [val(k, i, 7), val(k, i, 8)]])
+        .collect();
+    let f: Vec<[[f64; 3]; 3]> = (0..N)
+        .map(|i| {
+            let mut m = [[0.0; 3]; 3];
+            for (r, row) in m.iter_mut().enumerate() {
+                for (c, v) in row.iter_mut().enumerate() {
+                    *v = val(k, i, 10 + 3 * r + c);
+                }
+            }
+            m
+        })
+        .collect();
+    let ids: Vec<u64> = (0..N as u64).map(|i| u64::MAX - 100 + i).collect();
+    (
+        0.25 * k as f64 + 1e-17,
+        100 * k as u64 + 7,
+        vec![
+            Dataset::vectors_2d("position", &pos),
+            Dataset::vectors("velocity", &vel),
+            Dataset::scalars("density", &rho),
+            Dataset::matrices_2d("stress", &stress),
+            Dataset::matrices("deformation_gradient", &f),
+            Dataset::u64_scalars("id", &ids),
+            Dataset::f64("energy", vec![val(k, 0, 99)], vec![1]),
+        ],
+    )
+}
+
+pub fn probe(seed: usize, m: usize) -> (Vec<f64>, Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    (
+        (0..m).map(|j| val(seed, j, 0)).collect(),
+        (0..m)
+            .map(|j| [val(seed, j, 1), val(seed, j, 2), val(seed, j, 3)])
+            .collect(),
+        (0..m)
+            .map(|j| [val(seed, j, 4), val(seed, j, 5), val(seed, j, 6)])
+            .collect(),
+    )
+}
+
+pub const PROBES: [(&str, usize, usize); 2] = [("tip", 3, 11), ("mid point", 4, 5)];
+
+/// Writes the standard content to `<base>.h5` and returns its path.
+pub fn write_all(base: &Path, backend: Backend) -> PathBuf {
+    let mut w: Box<dyn ResultWriter> = create_writer(base, backend).expect("create writer");
+    w.write_meta(&meta()).unwrap();
+    for k in 0..3 {
+        let (t, s, d) = snapshot(k);
+        w.write_snapshot(t, s, &d).unwrap();
+    }
+    for (name, seed, m) in PROBES {
+        let (t, p, v) = probe(seed, m);
+        w.write_probe(name, &t, &p, &v).unwrap();
+    }
+    w.write_summary(&summary()).unwrap();
+    w.finish().expect("finish")
+}
+
+/// Asserts `contents` is exactly the standard content, bit for bit.
+pub fn check_contents(c: &sph_output::FileContents) {
+    assert_eq!(c.meta, meta());
+    assert_eq!(c.summary, summary());
+    assert_eq!(c.snapshots.len(), 3);
+    for (k, snap) in c.snapshots.iter().enumerate() {
+        let (t, s, mut d) = snapshot(k);
+        d.sort_by(|a, b| a.name.cmp(&b.name));
+        assert_eq!(snap.name, format!("{k:06}"));
+        assert_eq!(snap.time.to_bits(), t.to_bits());
+        assert_eq!(snap.step, s);
+        assert_eq!(snap.datasets.len(), d.len());
+        for (got, want) in snap.datasets.iter().zip(&d) {
+            assert_eq!(got.name, want.name);
+            assert_eq!(got.shape(), want.shape(), "{}", want.name);
+            match (&got.data, &want.data) {
+                (
+                    sph_output::DatasetData::F64 { values: g, .. },
+                    sph_output::DatasetData::F64 { values: w, .. },
+                ) => {
+                    let gb: Vec<u64> = g.iter().map(|v| v.to_bits()).collect();
+                    let wb: Vec<u64> = w.iter().map(|v| v.to_bits()).collect();
+                    assert_eq!(gb, wb, "{} bits", want.name);
+                }
+                (g, w) => assert_eq!(g, w),
+            }
+        }
+    }
+    assert_eq!(c.probes.len(), 2);
+    for (name, seed, m) in PROBES {
+        let p = &c.probes[name];
+        let (t, pos, vel) = probe(seed, m);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&p.times), bits(&t));
+        assert_eq!(bits(p.positions.as_flattened()), bits(pos.as_flattened()));
+        assert_eq!(bits(p.velocities.as_flattened()), bits(vel.as_flattened()));
+    }
+}
+
+/// A fresh scratch directory under the target dir (no tempfile dependency).
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("sph-output-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}

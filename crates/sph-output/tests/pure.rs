@@ -1,0 +1,174 @@
+//! The default (pure Rust) backend: round trip, tmp + rename, XDMF sidecar, error handling.
+
+mod common;
+
+use common::*;
+use sph_output::{
+    create_writer, h5_path, read_file, tmp_path, xmf_path, Backend, Dataset, OutputError,
+};
+
+#[test]
+fn round_trip_is_bit_identical() {
+    let dir = scratch("roundtrip");
+    let base = dir.join("run.v1");
+    let h5 = write_all(&base, Backend::Pure);
+    assert_eq!(h5, dir.join("run.v1.h5"));
+    check_contents(&read_file(&h5).unwrap());
+}
+
+#[test]
+fn default_backend_is_pure() {
+    assert_eq!(Backend::default(), Backend::Pure);
+    assert!(Backend::Pure.is_available());
+}
+
+#[cfg(not(feature = "hdf5-metno"))]
+#[test]
+fn metno_without_feature_is_a_clear_error() {
+    let dir = scratch("nometno");
+    let e = create_writer(&dir.join("x"), Backend::Metno)
+        .err()
+        .expect("must fail");
+    assert!(matches!(e, OutputError::BackendUnavailable { .. }));
+    assert!(e.to_string().contains("hdf5-metno"), "{e}");
+    assert!(!tmp_path(&dir.join("x")).exists());
+}
+
+#[test]
+fn tmp_until_finish_then_renamed() {
+    let dir = scratch("tmp");
+    let base = dir.join("run");
+    let mut w = create_writer(&base, Backend::Pure).unwrap();
+    assert!(tmp_path(&base).exists());
+    assert!(!h5_path(&base).exists());
+    let (t, s, d) = snapshot(0);
+    w.write_snapshot(t, s, &d).unwrap();
+    assert!(!h5_path(&base).exists());
+    assert!(!xmf_path(&base).exists());
+    // The .tmp is a valid file with everything written so far (incremental, durable).
+    let partial = read_file(tmp_path(&base)).unwrap();
+    assert_eq!(partial.snapshots.len(), 1);
+    let h5 = w.finish().unwrap();
+    assert!(h5.exists());
+    assert!(xmf_path(&base).exists());
+    assert!(!tmp_path(&base).exists());
+    assert!(!dir.join("run.xmf.tmp").exists());
+}
+
+#[test]
+fn dropped_writer_leaves_only_tmp() {
+    let dir = scratch("drop");
+    let base = dir.join("run");
+    {
+        let mut w = create_writer(&base, Backend::Pure).unwrap();
+        let (t, s, d) = snapshot(1);
+        w.write_snapshot(t, s, &d).unwrap();
+        // dropped without finish, as on a panic
+    }
+    assert!(tmp_path(&base).exists());
+    assert!(!h5_path(&base).exists());
+    assert!(!xmf_path(&base).exists());
+    assert_eq!(read_file(tmp_path(&base)).unwrap().snapshots.len(), 1);
+}
+
+#[test]
+fn rejected_calls_leave_the_writer_usable() {
+    let dir = scratch("reject");
+    let base = dir.join("run");
+    let mut w = create_writer(&base, Backend::Pure).unwrap();
+    let (t, s, d) = snapshot(0);
+    w.write_snapshot(t, s, &d).unwrap();
+    // Bad shape, duplicate name, bad position, bad probe: each rejected, nothing written.
+    let bad = [Dataset::f64("rho", vec![1.0, 2.0], vec![3])];
+    assert!(matches!(
+        w.write_snapshot(1.0, 1, &bad),
+        Err(OutputError::InvalidData { .. })
+    ));
+    let dup = [Dataset::scalars("a", &[1.0]), Dataset::scalars("a", &[2.0])];
+    assert!(w.write_snapshot(1.0, 1, &dup).is_err());
+    let pos = [Dataset::scalars("position", &[1.0])];
+    assert!(w.write_snapshot(1.0, 1, &pos).is_err());
+    let slash = [Dataset::scalars("a/b", &[1.0])];
+    assert!(w.write_snapshot(1.0, 1, &slash).is_err());
+    assert!(w.write_probe("p", &[0.0], &[], &[]).is_err());
+    w.write_probe("p", &[0.0], &[[1.0, 2.0, 3.0]], &[[0.0; 3]])
+        .unwrap();
+    let e = w
+        .write_probe("p", &[0.0], &[[1.0, 2.0, 3.0]], &[[0.0; 3]])
+        .unwrap_err();
+    assert!(
+        e.to_string().contains("run.h5.tmp"),
+        "error names the file: {e}"
+    );
+    // The simulation failed: summary with the failure, then finish keeps everything.
+    let (t1, s1, d1) = snapshot(1);
+    w.write_snapshot(t1, s1, &d1).unwrap();
+    w.write_summary(&summary()).unwrap();
+    let mut newer = summary();
+    newer.insert("status".into(), "failed again".into());
+    w.write_summary(&newer).unwrap();
+    let c = read_file(w.finish().unwrap()).unwrap();
+    assert_eq!(c.snapshots.len(), 2);
+    assert_eq!(c.snapshots[1].name, "000001");
+    assert_eq!(c.summary, newer);
+    assert_eq!(c.probes.len(), 1);
+    assert!(c.meta.is_empty());
+}
+
+#[test]
+fn xdmf_names_every_snapshot_and_dataset() {
+    let dir = scratch("xdmf");
+    let base = dir.join("run");
+    write_all(&base, Backend::Pure);
+    let x = std::fs::read_to_string(xmf_path(&base)).unwrap();
+    assert!(x.starts_with("<?xml"));
+    assert!(x.contains("<Xdmf Version=\"3.0\""));
+    assert!(x.contains("CollectionType=\"Temporal\""));
+    assert_eq!(x.matches("TopologyType=\"Polyvertex\"").count(), 3);
+    for k in 0..3 {
+        let (t, _, d) = snapshot(k);
+        assert!(x.contains(&format!("<Grid Name=\"{k:06}\"")));
+        assert!(x.contains(&format!("<Time Value=\"{t:?}\"/>")));
+        assert!(x.contains(&format!("run.h5:/snapshots/{k:06}/position</DataItem>")));
+        for ds in d
+            .iter()
+            .filter(|d| d.name != "position" && d.name != "energy")
+        {
+            assert!(x.contains(&format!("run.h5:/snapshots/{k:06}/{}</DataItem>", ds.name)));
+            assert!(x.contains(&format!("<Attribute Name=\"{}\"", ds.name)));
+        }
+        // Not per-particle: not an attribute.
+        assert!(!x.contains(&format!("/snapshots/{k:06}/energy")));
+    }
+    assert!(x.contains("AttributeType=\"Tensor\""));
+    assert!(x.contains("AttributeType=\"Vector\""));
+    assert!(x.contains("AttributeType=\"Scalar\""));
+    assert!(x.contains("NumberType=\"UInt\""));
+    assert!(x.contains(&format!("Dimensions=\"{N} 3 3\"")));
+    well_formed(&x);
+}
+
+/// A tiny well-formedness check: tags balance and nest.
+fn well_formed(x: &str) {
+    let mut stack: Vec<String> = Vec::new();
+    let mut rest = x;
+    while let Some(start) = rest.find('<') {
+        let end = rest[start..].find('>').expect("unclosed tag") + start;
+        let tag = &rest[start + 1..end];
+        rest = &rest[end + 1..];
+        if tag.starts_with('?') || tag.starts_with('!') {
+            continue;
+        }
+        if let Some(name) = tag.strip_prefix('/') {
+            assert_eq!(
+                stack.pop().as_deref(),
+                Some(name.trim()),
+                "mismatched </{name}>"
+            );
+        } else if !tag.ends_with('/') {
+            stack.push(tag.split_whitespace().next().unwrap().to_string());
+        }
+        assert!(!tag.contains('<'), "stray '<' in {tag}");
+    }
+    assert!(stack.is_empty(), "unclosed: {stack:?}");
+}
