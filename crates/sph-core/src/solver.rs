@@ -70,6 +70,16 @@ pub trait Solver<D: Dim>: Send {
     /// The probes attached by the scene, with what they recorded.
     fn probes(&self) -> &[Probe<D>];
 
+    /// Kinetic energy `Σ ½ m v²` and strain energy `Σ V⁰ ψ`, for methods with a strain energy.
+    fn energies(&self) -> Option<(f64, f64)> {
+        None
+    }
+
+    /// Total linear momentum `Σ m v` (3-vector; z = 0 in 2D), for methods that track masses.
+    fn momentum(&self) -> Option<glam::DVec3> {
+        None
+    }
+
     /// Advances until `time() ≥ t_end` (the last step is shortened to land on it). Returns the
     /// number of steps taken.
     fn advance_to(&mut self, t_end: f64) -> Result<u64, Error> {

@@ -1,0 +1,94 @@
+//! The hourglass-free (HF) formulation (TL paper §3.3, eq 25–29).
+//!
+//! The Kirchhoff stress is split (eq 25) into the shear part `τ_s = J^(−2/d) G b`, whose
+//! divergence is the Laplacian of position (eq 26) discretised pairwise (eq 27), and the
+//! remaining isotropic stress plus damping `τ_r` (eq 28), whose divergence uses eq 20 **without**
+//! the correction matrix: then the ζ terms of the two parts cancel exactly in the undeformed
+//! state, free surfaces included, and a body at rest stays at rest (METHODS.md). `d` is the
+//! spatial dimension (`d = 2` in plane strain, as the paper uses it).
+
+use crate::damping::damping_kirchhoff;
+use crate::original::nan_matrix;
+use rayon::prelude::*;
+use sph_core::{Dim, NeighborList};
+use sph_materials::Material;
+
+/// Default ζ = 1.07 (TL paper §4, for the Wendland C2 kernel with h = 1.15 dp).
+pub const DEFAULT_ZETA: f64 = 1.07;
+
+/// `J^(−2/d)` (eq 25–27).
+#[inline(always)]
+pub fn isochoric_factor<D: Dim>(j: f64) -> f64 {
+    if D::D == 2 {
+        1.0 / j
+    } else {
+        j.powf(-2.0 / 3.0)
+    }
+}
+
+/// Eq 28: the remaining Kirchhoff stress
+/// `τ_r = [(K/2)(J² − 1) − (ζ/d) G J^(−2/d) tr(b)] I + τ_d`, returned as `P_r = τ_r F⁻ᵀ`,
+/// together with `J^(−2/d)` for eq 27. The volumetric term is the material's
+/// [`Material::volumetric_kirchhoff`].
+#[inline(always)]
+pub fn remaining_piola<D: Dim, M: Material<D>>(
+    material: &M,
+    zeta: f64,
+    gamma: f64,
+    f: D::Matrix,
+    f_dot: D::Matrix,
+) -> (D::Matrix, f64) {
+    let j = D::det(f);
+    let jf = isochoric_factor::<D>(j);
+    let g = material.constants().shear_modulus;
+    let tr_b = D::ddot(f, f);
+    let iso = material.volumetric_kirchhoff(j) - zeta / D::D as f64 * g * jf * tr_b;
+    let mut tau = D::identity() * iso;
+    if gamma > 0.0 {
+        tau += damping_kirchhoff::<D>(gamma, f, f_dot);
+    }
+    let f_inv_t = D::transpose(D::try_inverse(f).unwrap_or_else(nan_matrix::<D>));
+    (tau * f_inv_t, jf)
+}
+
+/// Eq 27 added to `acc`: `a_s,i = (ζ G/ρ0) Σ_j (J_i^(−2/d) + J_j^(−2/d)) x_ij · V_j W′(r⁰_ij)/r⁰_ij`,
+/// with `lap[ij] = V_j W′(r⁰_ij)/r⁰_ij` precomputed.
+pub fn add_shear_acceleration<D: Dim>(
+    list: &NeighborList,
+    lap: &[f64],
+    positions: &[D::Vector],
+    isochoric: &[f64],
+    zeta_g_over_rho: f64,
+    acc: &mut [D::Vector],
+) {
+    acc.par_iter_mut().enumerate().for_each(|(i, a)| {
+        let (xi, ji) = (positions[i], isochoric[i]);
+        let mut sum = D::zero();
+        for (s, &j) in lap[list.range(i)].iter().zip(list.neighbors(i)) {
+            let j = j as usize;
+            sum += (xi - positions[j]) * ((ji + isochoric[j]) * s);
+        }
+        *a += sum * zeta_g_over_rho;
+    });
+}
+
+/// The full Kirchhoff stress the HF scheme represents (eq 25 without damping):
+/// `τ = (K/2)(J² − 1) I + G J^(−2/d) (b − tr(b)/d I)`, as 3×3; in 2D `τ_zz` is the volumetric
+/// part (the in-plane deviator with d = 2 has no out-of-plane component). For output.
+pub fn kirchhoff_stress_3d<D: Dim, M: Material<D>>(material: &M, f: D::Matrix) -> glam::DMat3 {
+    let j = D::det(f);
+    let jf = isochoric_factor::<D>(j);
+    let g = material.constants().shear_modulus;
+    let b = f * D::transpose(f);
+    let vol = material.volumetric_kirchhoff(j);
+    let tau = D::identity() * (vol - g * jf * D::trace(b) / D::D as f64) + b * (g * jf);
+    D::to_mat3(tau, vol)
+}
+
+/// Strain energy density of the HF scheme's law (TL paper eq 10–12):
+/// `ψ = (K/2)[(J² − 1)/2 − ln J] + (G/2)(J^(−2/d) tr b − d)`.
+pub fn strain_energy<D: Dim>(bulk: f64, shear: f64, f: D::Matrix) -> f64 {
+    let j = D::det(f);
+    0.5 * bulk * (0.5 * (j * j - 1.0) - j.ln())
+        + 0.5 * shear * (isochoric_factor::<D>(j) * D::ddot(f, f) - D::D as f64)
+}

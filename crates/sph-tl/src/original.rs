@@ -1,0 +1,93 @@
+//! The original TL-SPH stress divergence (TL paper eq 20) and the deformation rate (eq 22),
+//! shared by all variants (the HF variant uses eq 20's structure without `B` for its remaining
+//! stress, see [`crate::hourglass_free`]).
+
+use crate::damping::damping_piola;
+use rayon::prelude::*;
+use sph_core::{Dim, NeighborList};
+use sph_materials::Material;
+
+/// First Piola–Kirchhoff stress with damping, premultiplied for eq 20: `(P_i + τ_d F_i⁻ᵀ) B_iᵀ`.
+#[inline(always)]
+pub fn corrected_piola<D: Dim, M: Material<D>>(
+    material: &M,
+    gamma: f64,
+    f: D::Matrix,
+    f_dot: D::Matrix,
+    b: D::Matrix,
+) -> D::Matrix {
+    let mut p = material.first_piola_kirchhoff(f);
+    if gamma > 0.0 {
+        let f_inv_t = D::transpose(D::try_inverse(f).unwrap_or_else(nan_matrix::<D>));
+        p += damping_piola::<D>(gamma, f, f_dot, f_inv_t);
+    }
+    p * D::transpose(b)
+}
+
+/// A matrix of NaN: a singular `F` surfaces as a non-finite acceleration, which the step
+/// reports, instead of a panic.
+pub(crate) fn nan_matrix<D: Dim>() -> D::Matrix {
+    D::matrix_from_fn(|_, _| f64::NAN)
+}
+
+/// Eq 20: `a_i = (1/ρ0) Σ_j (S_i + S_j) (V_j ∇⁰_i W_ij)` for per-particle matrices `S`
+/// (`P B ᵀ` for the original form, `P_r` for HF), written into `acc`.
+pub fn stress_divergence<D: Dim>(
+    list: &NeighborList,
+    grad_v: &[D::Vector],
+    stress: &[D::Matrix],
+    inv_density: f64,
+    acc: &mut [D::Vector],
+) {
+    acc.par_iter_mut().enumerate().for_each(|(i, a)| {
+        let si = stress[i];
+        let mut sum = D::zero();
+        let r = list.range(i);
+        for (g, &j) in grad_v[r.clone()].iter().zip(list.neighbors(i)) {
+            sum += (si + stress[j as usize]) * *g;
+        }
+        *a = sum * inv_density;
+    });
+}
+
+/// Eq 22: `Ḟ_i = (Σ_j (v_j − v_i) ⊗ V_j ∇⁰_i W_ij) B_i`, written into `f_dot`.
+pub fn deformation_rate<D: Dim>(
+    list: &NeighborList,
+    grad_v: &[D::Vector],
+    correction: &[D::Matrix],
+    velocities: &[D::Vector],
+    f_dot: &mut [D::Matrix],
+) {
+    f_dot.par_iter_mut().enumerate().for_each(|(i, fd)| {
+        let vi = velocities[i];
+        let mut sum = D::zero_matrix();
+        for (g, &j) in grad_v[list.range(i)].iter().zip(list.neighbors(i)) {
+            sum += D::outer(velocities[j as usize] - vi, *g);
+        }
+        *fd = sum * correction[i];
+    });
+}
+
+/// `F_i = I + (Σ_j (u_j − u_i) ⊗ V_j ∇⁰_i W_ij) B_i` for displacements `u = x − X`: the
+/// deformation gradient the SPH gradient of eq 22 assigns to a configuration (used to start from
+/// a prescribed deformed state).
+pub fn deformation_gradient<D: Dim>(
+    list: &NeighborList,
+    grad_v: &[D::Vector],
+    correction: &[D::Matrix],
+    reference: &[D::Vector],
+    current: &[D::Vector],
+) -> Vec<D::Matrix> {
+    (0..list.len())
+        .into_par_iter()
+        .map(|i| {
+            let ui = current[i] - reference[i];
+            let mut sum = D::zero_matrix();
+            for (g, &j) in grad_v[list.range(i)].iter().zip(list.neighbors(i)) {
+                let j = j as usize;
+                sum += D::outer(current[j] - reference[j] - ui, *g);
+            }
+            D::identity() + sum * correction[i]
+        })
+        .collect()
+}
