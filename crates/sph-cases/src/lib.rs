@@ -1,1 +1,87 @@
-//! Benchmark cases as scene builders (filled by the method issues).
+//! # sph-cases: the benchmark scenes and the `sph` command
+//!
+//! Every case of `CASES.md` is a scene builder ([`Case`]) with defaults from its paper and every
+//! value overridable ([`params::Params`]: `--set key=value` or a TOML file). [`runner::drive`]
+//! runs any solver to its end time, writes HDF5 results through `sph-output`, and returns the
+//! summary figures.
+#![deny(missing_docs)]
+
+pub mod analysis;
+pub mod cases;
+pub mod error;
+pub mod params;
+pub mod runner;
+
+pub use error::CaseError;
+pub use params::{Param, Params, Range, Value};
+pub use runner::{RunOptions, RunRecord, Schedule};
+
+use serde_json::{Map, Value as Json};
+
+/// What a case is and which methods it runs.
+#[derive(Clone, Copy, Debug)]
+pub struct CaseInfo {
+    /// Name as the command line spells it.
+    pub name: &'static str,
+    /// One line.
+    pub description: &'static str,
+    /// Methods it supports (the first is the default).
+    pub methods: &'static [&'static str],
+}
+
+/// A benchmark case: parameters with defaults, and a run.
+pub trait Case: Sync {
+    /// Name, description, methods.
+    fn info(&self) -> CaseInfo;
+
+    /// The parameters with their defaults.
+    fn params(&self) -> Params;
+
+    /// Builds the scene for `method` with `params` and runs it. On a failure mid-run the
+    /// results file is still completed and `record.failure` says what happened.
+    fn run(
+        &self,
+        method: &str,
+        params: &Params,
+        options: &RunOptions,
+    ) -> Result<(RunRecord, Map<String, Json>), CaseError>;
+}
+
+/// Every case.
+pub fn all_cases() -> Vec<&'static dyn Case> {
+    cases::ALL.to_vec()
+}
+
+/// The case of that name.
+pub fn find_case(name: &str) -> Result<&'static dyn Case, CaseError> {
+    cases::ALL
+        .iter()
+        .copied()
+        .find(|c| c.info().name == name)
+        .ok_or_else(|| CaseError::UnknownCase {
+            name: name.into(),
+            known: cases::ALL
+                .iter()
+                .map(|c| c.info().name)
+                .collect::<Vec<_>>()
+                .join(", "),
+        })
+}
+
+/// Checks that `case` runs `method` (or picks its default when `None`).
+pub fn resolve_method(case: &dyn Case, method: Option<&str>) -> Result<&'static str, CaseError> {
+    let info = case.info();
+    match method {
+        None => Ok(info.methods[0]),
+        Some(m) => info
+            .methods
+            .iter()
+            .copied()
+            .find(|&x| x == m)
+            .ok_or_else(|| CaseError::UnknownMethod {
+                case: info.name.into(),
+                method: m.into(),
+                allowed: info.methods.join(", "),
+            }),
+    }
+}

@@ -1,0 +1,178 @@
+//! What the TL-method cases share: the numerical parameters of the TL paper as case keys, the
+//! method name → shear treatment mapping, and the run metadata.
+
+use crate::error::CaseError;
+use crate::params::{Param, Params, Range};
+use crate::runner::{drive, RunOptions, RunRecord, Schedule};
+use serde_json::{json, Map, Value as Json};
+use sph_core::{Dim, Solver};
+use sph_materials::{ElasticConstants, MaterialKind, MaterialModel};
+use sph_tl::{Shear, TlBody, TlParams, TlSolver};
+
+/// The TL methods.
+pub const TL_METHODS: &[&str] = &["tl-hf", "tl", "tl-gm"];
+
+/// Keys every TL case accepts (defaults: TL paper §4).
+pub fn tl_params() -> Vec<Param> {
+    vec![
+        Param::float(
+            "h_over_dp",
+            1.15,
+            Range::Closed(0.5, 3.0),
+            "smoothing length / dp",
+        ),
+        Param::float("cfl", 0.6, Range::Open(0.0, 1.0), "CFL number of TL eq 33"),
+        Param::float("zeta", 1.07, Range::Positive, "ζ of TL-HF (eq 27–28)"),
+        Param::float(
+            "alpha",
+            0.1,
+            Range::NonNegative,
+            "α of the Ganzenmüller penalty (tl-gm)",
+        ),
+        Param::bool("damping", true, "Kelvin–Voigt damping (TL eq 23–24)"),
+        Param::float(
+            "snapshot_interval",
+            0.0,
+            Range::NonNegative,
+            "simulated time between HDF5 snapshots (0: first and last only)",
+        ),
+        Param::float(
+            "monitor_interval",
+            0.0,
+            Range::NonNegative,
+            "time between disorder/energy samples (0: end_time/200)",
+        ),
+        Param::float(
+            "probe_interval",
+            0.0,
+            Range::NonNegative,
+            "time between probe samples (0: every step)",
+        ),
+    ]
+}
+
+/// The shear treatment of a TL method name.
+pub fn shear_of(method: &str, p: &Params) -> Result<Shear, CaseError> {
+    Ok(match method {
+        "tl" => Shear::Original,
+        "tl-hf" => Shear::HourglassFree {
+            zeta: p.f64("zeta"),
+        },
+        "tl-gm" => Shear::Ganzenmuller {
+            alpha: p.f64("alpha"),
+        },
+        other => {
+            return Err(CaseError::UnknownMethod {
+                case: "tl".into(),
+                method: other.into(),
+                allowed: TL_METHODS.join(", "),
+            })
+        }
+    })
+}
+
+/// The numerical parameters from the case keys.
+pub fn tl_numerics(p: &Params) -> TlParams {
+    TlParams {
+        h_over_dp: p.f64("h_over_dp"),
+        cfl: p.f64("cfl"),
+        damping: p.flag("damping"),
+        ..TlParams::default()
+    }
+}
+
+/// Builds the material.
+pub fn material(
+    kind: MaterialKind,
+    youngs: f64,
+    nu: f64,
+    density: f64,
+) -> Result<MaterialModel, CaseError> {
+    let c = ElasticConstants::from_youngs(youngs, nu, density).map_err(rename_material_error)?;
+    Ok(kind.build(c)?)
+}
+
+/// Material errors name `youngs_modulus`/`poisson_ratio`/`density`; the cases' keys are the
+/// same except `nu`.
+fn rename_material_error(e: sph_core::Error) -> CaseError {
+    match e {
+        sph_core::Error::InvalidParameter {
+            field,
+            value,
+            allowed,
+        } if field == "poisson_ratio" => CaseError::InvalidValue {
+            key: "nu".into(),
+            value,
+            allowed: allowed.replace("poisson_ratio", "nu"),
+        },
+        other => other.into(),
+    }
+}
+
+/// Standard metadata of a run.
+pub fn meta(case: &str, method: &str, p: &Params, particles: usize) -> Map<String, Json> {
+    let mut m = Map::new();
+    m.insert("case".into(), json!(case));
+    m.insert("method".into(), json!(method));
+    m.insert("particles".into(), json!(particles));
+    m.insert("crate_version".into(), json!(env!("CARGO_PKG_VERSION")));
+    m.insert("params".into(), Json::Object(p.to_json()));
+    m
+}
+
+/// The schedule from the common keys.
+pub fn schedule(p: &Params, end_time: f64) -> Schedule {
+    let monitor = p.f64("monitor_interval");
+    Schedule {
+        end_time,
+        snapshot_interval: p.f64("snapshot_interval"),
+        monitor_interval: if monitor > 0.0 {
+            monitor
+        } else {
+            end_time / 200.0
+        },
+    }
+}
+
+/// Output fields written with every snapshot.
+pub const TL_FIELDS: &[&str] = &[
+    "velocity",
+    "displacement",
+    "von_mises",
+    "jacobian",
+    "disorder",
+];
+
+/// Builds a TL solver and runs it: the tail every TL case shares.
+#[allow(clippy::too_many_arguments)]
+pub fn run_tl<D: Dim>(
+    case: &str,
+    method: &str,
+    p: &Params,
+    body: TlBody<D>,
+    material: MaterialModel,
+    attach: impl FnOnce(TlSolver<D, MaterialModel>) -> Result<TlSolver<D, MaterialModel>, CaseError>,
+    end_time: f64,
+    options: &RunOptions,
+    summarise: impl FnOnce(&dyn Solver<D>, &RunRecord) -> Map<String, Json>,
+) -> Result<(RunRecord, Map<String, Json>), CaseError>
+where
+    MaterialModel: sph_materials::Material<D>,
+{
+    let shear = shear_of(method, p)?;
+    let solver = TlSolver::new(body, material, shear, tl_numerics(p))?;
+    let mut solver = attach(solver)?;
+    let mut meta = meta(case, method, p, solver.len());
+    meta.insert(
+        "guarded_particles".into(),
+        json!(solver.guarded_particles()),
+    );
+    drive::<D>(
+        &mut solver,
+        meta,
+        schedule(p, end_time),
+        TL_FIELDS,
+        options,
+        summarise,
+    )
+}
