@@ -14,6 +14,8 @@ fn bench(c: &mut Criterion) {
     let cutoff = 2.0 * spec.h_over_dp * dp;
     let mut group = c.benchmark_group(spec.group);
     group.sample_size(20);
+    group.warm_up_time(std::time::Duration::from_secs(2));
+    group.measurement_time(std::time::Duration::from_secs(6));
     group.throughput(Throughput::Elements(positions.len() as u64));
     for threads in [1usize, 2] {
         let pool = thread_pool(threads);

@@ -1,1 +1,18 @@
-//! Validation runs (filled by the method issues).
+//! Validation runs: each runs cases through `sph-cases`, stores its figures as JSON under
+//! `validation/results/` (so the report can be regenerated, and long runs spread over several
+//! sittings), and `report` turns the stored results into `docs/validation.md` with PNG plots.
+#![deny(missing_docs)]
+
+pub mod plot;
+pub mod store;
+pub mod tl;
+
+use std::path::PathBuf;
+
+/// The workspace root.
+pub fn workspace_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("validation/ sits in the workspace root")
+        .to_path_buf()
+}

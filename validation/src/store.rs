@@ -1,0 +1,156 @@
+//! Stored results of validation runs: one JSON file per run under `validation/results/`.
+
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+use sph_cases::{find_case, resolve_method, CaseError, RunOptions};
+use std::path::PathBuf;
+
+/// One validation run's stored figures.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct StoredRun {
+    /// Identifier (file stem).
+    pub id: String,
+    /// Case.
+    pub case: String,
+    /// Method.
+    pub method: String,
+    /// The `--set` assignments.
+    pub set: Vec<String>,
+    /// The command that reproduces this run alone.
+    pub command: String,
+    /// The run's summary (the monitor history included).
+    pub summary: Map<String, Value>,
+    /// Probe time series (downsampled to at most 2,000 samples): name → (t, x, y, z).
+    pub probes: Map<String, Value>,
+}
+
+impl StoredRun {
+    /// A summary number.
+    pub fn num(&self, key: &str) -> Option<f64> {
+        self.summary.get(key).and_then(Value::as_f64)
+    }
+
+    /// A probe series `(t, component k)`.
+    pub fn probe_series(&self, name: &str, k: usize) -> Vec<(f64, f64)> {
+        let Some(p) = self.probes.get(name) else {
+            return Vec::new();
+        };
+        let t = p
+            .get("t")
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default();
+        let key = ["x", "y", "z"][k];
+        let c = p
+            .get(key)
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default();
+        t.iter()
+            .zip(&c)
+            .filter_map(|(a, b)| Some((a.as_f64()?, b.as_f64()?)))
+            .collect()
+    }
+
+    /// A monitor series `(t, value)` (`disorder_max`, `kinetic_energy`, ...).
+    pub fn monitor_series(&self, key: &str) -> Vec<(f64, f64)> {
+        let m = self.summary.get("monitor");
+        let get = |k: &str| {
+            m.and_then(|m| m.get(k))
+                .and_then(Value::as_array)
+                .cloned()
+                .unwrap_or_default()
+        };
+        get("time")
+            .iter()
+            .zip(&get(key))
+            .filter_map(|(a, b)| Some((a.as_f64()?, b.as_f64()?)))
+            .collect()
+    }
+}
+
+/// Directory of stored results.
+pub fn results_dir() -> PathBuf {
+    crate::workspace_root().join("validation").join("results")
+}
+
+/// The stored run `id`, if present.
+pub fn load(id: &str) -> Option<StoredRun> {
+    let text = std::fs::read_to_string(results_dir().join(format!("{id}.json"))).ok()?;
+    serde_json::from_str(&text).ok()
+}
+
+/// Runs `case` with `method` and `set` unless `id` is stored already (or `force`), stores and
+/// returns it. Runs write their HDF5 file to `target/validation/` (read back for the probes).
+pub fn run_or_load(
+    id: &str,
+    case: &str,
+    method: &str,
+    set: &[String],
+    force: bool,
+) -> Result<StoredRun, CaseError> {
+    if !force {
+        if let Some(r) = load(id) {
+            if r.set == set && r.method == method && r.case == case {
+                return Ok(r);
+            }
+        }
+    }
+    let c = find_case(case)?;
+    let method = resolve_method(c, Some(method))?;
+    let mut params = c.params();
+    for a in set {
+        params.apply_assignment(a)?;
+    }
+    let out = crate::workspace_root()
+        .join("target")
+        .join("validation")
+        .join(id);
+    let options = RunOptions {
+        output: Some(out),
+        ..Default::default()
+    };
+    eprintln!("running {id}: {case} --method {method} {}", set.join(" "));
+    let (record, summary) = c.run(method, &params, &options)?;
+    let mut probes = Map::new();
+    if let Some(file) = &record.file {
+        let contents = sph_output::read_file(file)?;
+        for (name, p) in contents.probes {
+            let stride = p.times.len().div_ceil(2000).max(1);
+            let pick = |k: usize| -> Vec<f64> {
+                p.positions.iter().step_by(stride).map(|x| x[k]).collect()
+            };
+            let t: Vec<f64> = p.times.iter().step_by(stride).copied().collect();
+            probes.insert(
+                name,
+                serde_json::json!({ "t": t, "x": pick(0), "y": pick(1), "z": pick(2) }),
+            );
+        }
+        let _ = std::fs::remove_file(file);
+        let _ = std::fs::remove_file(sph_output::xmf_path(&file.with_extension("")));
+    }
+    let sets: String = set.iter().map(|s| format!(" --set {s}")).collect();
+    let run = StoredRun {
+        id: id.into(),
+        case: case.into(),
+        method: method.into(),
+        set: set.to_vec(),
+        command: format!(
+            "cargo run --release -p sph-cases --bin sph -- run {case} --method {method}{sets}"
+        ),
+        summary,
+        probes,
+    };
+    std::fs::create_dir_all(results_dir()).map_err(|e| CaseError::Io {
+        path: results_dir().display().to_string(),
+        source: e,
+    })?;
+    let path = results_dir().join(format!("{id}.json"));
+    std::fs::write(&path, serde_json::to_string(&run).expect("serialises")).map_err(|e| {
+        CaseError::Io {
+            path: path.display().to_string(),
+            source: e,
+        }
+    })?;
+    Ok(run)
+}
