@@ -30,6 +30,13 @@ pub const NEIGHBOR_BENCH: NeighborBench = NeighborBench {
     jitter: 0.1,
 };
 
+/// The TL step benchmark: the bending column (TL paper Table 3) at these H/dp.
+pub const TL_BENCH_GROUP: &str = "tl-step-bending-column";
+/// Resolutions of the TL benchmark (1,296 / 10,368 / 82,944 column particles).
+pub const TL_BENCH_RESOLUTIONS: [i64; 3] = [6, 12, 24];
+/// Methods of the TL benchmark.
+pub const TL_BENCH_METHODS: [&str; 3] = ["tl", "tl-hf", "tl-gm"];
+
 /// A `n³` lattice of spacing `1/n` with every point displaced by up to `±jitter·dp` per axis
 /// (deterministic SplitMix64 stream), so that distances are not all ties. Returns the points and dp.
 pub fn jittered_lattice_3d(n: usize, jitter: f64) -> (Vec<DVec3>, f64) {

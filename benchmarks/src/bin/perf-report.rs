@@ -6,7 +6,9 @@
 //! ```
 //! Benchmarks that have not been run are listed as missing rather than invented.
 
-use sph_benchmarks::{read_mean, NEIGHBOR_BENCH};
+use sph_benchmarks::{
+    read_mean, NEIGHBOR_BENCH, TL_BENCH_GROUP, TL_BENCH_METHODS, TL_BENCH_RESOLUTIONS,
+};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -19,6 +21,7 @@ fn main() {
     let mut md = String::new();
     header(&mut md);
     neighbor_section(&mut md, &criterion);
+    tl_section(&mut md, &criterion);
     std::fs::create_dir_all(out.parent().unwrap()).expect("create docs/");
     let tmp = out.with_extension("md.tmp");
     std::fs::write(&tmp, &md).expect("write docs/performance.md");
@@ -96,6 +99,61 @@ fn neighbor_section(md: &mut String, criterion: &Path) {
                     .unwrap();
                 }
                 None => writeln!(md, "| {function} | {threads} | not run | | | |").unwrap(),
+            }
+        }
+    }
+    writeln!(md).unwrap();
+}
+
+fn tl_section(md: &mut String, criterion: &Path) {
+    writeln!(md, "## TL step, bending column 3D (TL paper Table 3)\n").unwrap();
+    writeln!(
+        md,
+        "One position-Verlet step of the bending column (H = 1, L = 6, neo-Hookean, ν = 0.45), \
+         column particles 6·6·36 / 12·12·72 / 24·24·144 = 1,296 / 10,368 / 82,944 plus 3 clamp \
+         layers below (the `particles` column counts both). Command: \
+         `cargo bench -p sph-benchmarks --bench tl_step`. `HF/TL` is the time of TL-HF over TL at \
+         the same size and threads; the TL paper reports ≈ 0.98 (Table 3: 4.98/5.10, 99.74/103.89).\n"
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "| H/dp | particles | threads | method | time per step (ms) | particle-steps/s | HF/TL |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|").unwrap();
+    for res in TL_BENCH_RESOLUTIONS {
+        let n = (res * res * (6 * res + 3)) as f64;
+        for threads in [1, 2] {
+            let get = |m: &str| {
+                read_mean(
+                    criterion,
+                    TL_BENCH_GROUP,
+                    &format!("{m}/{threads}-thread"),
+                    &res.to_string(),
+                )
+            };
+            let tl = get("tl");
+            for method in TL_BENCH_METHODS {
+                match get(method) {
+                    Some(e) => {
+                        let ratio = if method == "tl-hf" {
+                            tl.map(|t| format!("{:.3}", e.point_estimate / t.point_estimate))
+                                .unwrap_or_else(|| "–".into())
+                        } else {
+                            String::new()
+                        };
+                        writeln!(
+                            md,
+                            "| {res} | {n} | {threads} | {method} | {:.3} | {:.3e} | {ratio} |",
+                            e.point_estimate * 1e-6,
+                            n / (e.point_estimate * 1e-9)
+                        )
+                        .unwrap();
+                    }
+                    None => writeln!(md, "| {res} | {n} | {threads} | {method} | not run | | |")
+                        .unwrap(),
+                }
             }
         }
     }

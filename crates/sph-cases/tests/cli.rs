@@ -1,0 +1,164 @@
+//! The `sph` command end to end: bad input exits with status 2 and one line naming the problem
+//! (nothing written); a short run writes the HDF5 file, its sidecar and the JSON summary.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn sph(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_sph"))
+        .args(args)
+        .output()
+        .expect("run sph");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("sph-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn list_names_every_case_with_its_methods() {
+    let (code, out, _) = sph(&["list"]);
+    assert_eq!(code, 0);
+    for case in [
+        "oscillating-plate-2d",
+        "bending-column-3d",
+        "twisting-column-3d",
+    ] {
+        assert!(out.contains(case), "{out}");
+    }
+    assert!(out.contains("tl-hf"));
+}
+
+#[test]
+fn bad_input_exits_2_with_one_line_and_writes_nothing() {
+    let dir = scratch("bad");
+    let out = dir.join("o");
+    let o = out.to_str().unwrap();
+    let toml = dir.join("bad.toml");
+    std::fs::write(&toml, "nu = = 0.3\n").unwrap();
+    let t = toml.to_str().unwrap();
+    let cases: [(&[&str], &str); 7] = [
+        (
+            &["run", "no-such-case", "--out", o],
+            "unknown case `no-such-case`",
+        ),
+        (
+            &[
+                "run",
+                "oscillating-plate-2d",
+                "--method",
+                "ul-x",
+                "--out",
+                o,
+            ],
+            "does not run method `ul-x`",
+        ),
+        (
+            &[
+                "run",
+                "oscillating-plate-2d",
+                "--set",
+                "poisson=0.3",
+                "--out",
+                o,
+            ],
+            "no parameter `poisson`",
+        ),
+        (
+            &["run", "oscillating-plate-2d", "--set", "nu=0.5", "--out", o],
+            "invalid nu = 0.5",
+        ),
+        (
+            &[
+                "run",
+                "oscillating-plate-2d",
+                "--set",
+                "resolution=ten",
+                "--out",
+                o,
+            ],
+            "invalid resolution = ten",
+        ),
+        (
+            &["run", "oscillating-plate-2d", "--set", "nu", "--out", o],
+            "key=value",
+        ),
+        (
+            &["run", "oscillating-plate-2d", "--config", t, "--out", o],
+            "malformed TOML",
+        ),
+    ];
+    for (args, expect) in cases {
+        let (code, stdout, stderr) = sph(args);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains(expect), "{args:?}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stdout.is_empty(), "{stdout}");
+    }
+    assert!(!out.exists(), "bad input must not create output");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_short_run_writes_results_and_summary() {
+    let dir = scratch("run");
+    let summary = dir.join("s.json");
+    let toml = dir.join("plate.toml");
+    std::fs::write(
+        &toml,
+        "case = \"oscillating-plate-2d\"\nmethod = \"tl\"\nresolution = 4\n",
+    )
+    .unwrap();
+    let (code, stdout, stderr) = sph(&[
+        "run",
+        "oscillating-plate-2d",
+        "--config",
+        toml.to_str().unwrap(),
+        "--set",
+        "end_time=0.01",
+        "--set",
+        "snapshot_interval=0.005",
+        "--out",
+        dir.to_str().unwrap(),
+        "--summary",
+        summary.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("particle_steps_per_second"));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    for key in [
+        "case",
+        "method",
+        "particles",
+        "steps",
+        "wall_seconds",
+        "particle_steps_per_second",
+        "max_disorder",
+        "energy_drift",
+        "period_theory",
+    ] {
+        assert!(s.get(key).is_some(), "summary lacks {key}: {s}");
+    }
+    assert_eq!(s["method"], "tl");
+    assert_eq!(s["status"], "completed");
+    let h5 = dir.join("oscillating-plate-2d-tl.h5");
+    let file = sph_output::read_file(&h5).unwrap();
+    // Snapshots at t = 0, 0.005, 0.01.
+    assert_eq!(file.snapshots.len(), 3);
+    assert!((file.snapshots[2].time - 0.01).abs() < 1e-12);
+    assert!(file.probes.contains_key("tip"));
+    assert_eq!(file.summary["case"], "oscillating-plate-2d");
+    assert_eq!(file.meta["params"]["resolution"], 4);
+    assert!(dir.join("oscillating-plate-2d-tl.xmf").exists());
+    assert!(!dir.join("oscillating-plate-2d-tl.h5.tmp").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
