@@ -13,6 +13,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod correction;
+pub mod diagnostics;
 pub mod dim;
 pub mod disorder;
 pub mod error;

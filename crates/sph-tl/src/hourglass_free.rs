@@ -51,24 +51,35 @@ pub fn remaining_piola<D: Dim, M: Material<D>>(
     (tau * f_inv_t, jf)
 }
 
-/// Eq 27 added to `acc`: `a_s,i = (ζ G/ρ0) Σ_j (J_i^(−2/d) + J_j^(−2/d)) x_ij · V_j W′(r⁰_ij)/r⁰_ij`,
-/// with `lap[ij] = V_j W′(r⁰_ij)/r⁰_ij` precomputed.
-pub fn add_shear_acceleration<D: Dim>(
+/// Eq 29 in one pass over each particle's neighbours: the remaining-stress divergence (eq 20
+/// structure with `P_r`, no `B`) plus the shear acceleration of eq 27,
+/// `a_i = (1/ρ0) Σ_j (P_r,i + P_r,j) V_j ∇⁰_i W_ij
+///      + (ζ G/ρ0) Σ_j (J_i^(−2/d) + J_j^(−2/d)) x_ij V_j W′(r⁰_ij)/r⁰_ij`,
+/// with `grad_v[ij] = V_j ∇⁰_i W_ij` and `lap[ij] = V_j W′(r⁰_ij)/r⁰_ij` precomputed. Fusing the
+/// two sums reads each neighbour once.
+#[allow(clippy::too_many_arguments)]
+pub fn acceleration<D: Dim>(
     list: &NeighborList,
+    grad_v: &[D::Vector],
     lap: &[f64],
+    remaining: &[D::Matrix],
     positions: &[D::Vector],
     isochoric: &[f64],
+    inv_density: f64,
     zeta_g_over_rho: f64,
     acc: &mut [D::Vector],
 ) {
     acc.par_iter_mut().enumerate().for_each(|(i, a)| {
-        let (xi, ji) = (positions[i], isochoric[i]);
-        let mut sum = D::zero();
-        for (s, &j) in lap[list.range(i)].iter().zip(list.neighbors(i)) {
+        let (pi, xi, ji) = (remaining[i], positions[i], isochoric[i]);
+        let mut div = D::zero();
+        let mut shear = D::zero();
+        let r = list.range(i);
+        for ((g, s), &j) in grad_v[r.clone()].iter().zip(&lap[r]).zip(list.neighbors(i)) {
             let j = j as usize;
-            sum += (xi - positions[j]) * ((ji + isochoric[j]) * s);
+            div += (pi + remaining[j]) * *g;
+            shear += (xi - positions[j]) * ((ji + isochoric[j]) * s);
         }
-        *a += sum * zeta_g_over_rho;
+        *a = div * inv_density + shear * zeta_g_over_rho;
     });
 }
 

@@ -6,12 +6,12 @@ use crate::{ganzenmuller, hourglass_free, original};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
+use sph_core::diagnostics;
 use sph_core::disorder::disorder_indicator;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
 use sph_core::pairs::pair_kernels;
 use sph_core::scene::ProbeSchedule;
-use sph_core::solver::first_non_finite;
 use sph_core::{
     Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe, Solver,
     StepInfo, WendlandC2,
@@ -80,6 +80,11 @@ pub struct TlParams {
     pub damping: bool,
     /// Guard threshold of the correction matrix (see `sph_core::correction`).
     pub correction_min_eigenvalue: f64,
+    /// The run stops with [`Error::TimeStepCollapsed`] when eq 33 gives a step below this
+    /// fraction of the acoustic step at rest, `CFL·h/c` (1e-3): the acceleration criterion then
+    /// signals |a| > 10⁶ c²/h, a collapsed pair of particles or an inverted element, and going on
+    /// would only take a million steps to get nowhere.
+    pub min_dt_ratio: f64,
 }
 
 impl Default for TlParams {
@@ -89,6 +94,7 @@ impl Default for TlParams {
             cfl: 0.6,
             damping: true,
             correction_min_eigenvalue: DEFAULT_MIN_EIGENVALUE,
+            min_dt_ratio: 1e-3,
         }
     }
 }
@@ -203,6 +209,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         check_positive("dp", body.dp)?;
         check_positive("h_over_dp", params.h_over_dp)?;
         check_positive("cfl", params.cfl)?;
+        check_positive("min_dt_ratio", params.min_dt_ratio)?;
         shear.validate()?;
         if body.volumes.len() != n {
             return Err(Error::invalid(
@@ -405,7 +412,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             &self.velocities,
             &mut self.deformation_rate,
         );
-        self.max_speed = max_norm::<D>(&self.velocities, &self.free);
+        self.max_speed = diagnostics::max_norm_where::<D>(&self.velocities, &self.free);
     }
 
     /// Accelerations of the current state (positions, `F`, `Ḟ`), without loads or constraints:
@@ -462,19 +469,15 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                         *s = p;
                         *jf = j;
                     });
-                original::stress_divergence::<D>(
+                let g = material.constants().shear_modulus;
+                hourglass_free::acceleration::<D>(
                     &self.list,
                     &self.grad_v,
-                    &self.stress,
-                    inv_rho,
-                    &mut self.accelerations,
-                );
-                let g = material.constants().shear_modulus;
-                hourglass_free::add_shear_acceleration::<D>(
-                    &self.list,
                     lap,
+                    &self.stress,
                     &self.positions,
                     &self.isochoric,
+                    inv_rho,
                     zeta * g * inv_rho,
                     &mut self.accelerations,
                 );
@@ -489,26 +492,13 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     }
 
     fn check_finite(&self) -> Result<(), Error> {
-        let fail = |field: &str, particle: usize| Error::NonFinite {
-            field: field.into(),
-            particle,
-            step: self.steps,
-            time: self.time,
-        };
-        if let Some(i) = first_non_finite::<D>(&self.positions) {
-            return Err(fail("position", i));
-        }
-        if let Some(i) = first_non_finite::<D>(&self.velocities) {
-            return Err(fail("velocity", i));
-        }
-        if let Some(i) = self
-            .deformation
-            .iter()
-            .position(|&f| !D::matrix_is_finite(f))
-        {
-            return Err(fail("deformation gradient", i));
-        }
-        Ok(())
+        diagnostics::check_finite_state::<D>(
+            &self.positions,
+            &self.velocities,
+            ("deformation gradient", &self.deformation),
+            self.steps,
+            self.time,
+        )
     }
 
     /// The shear treatment.
@@ -568,32 +558,17 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
 
     /// Total linear momentum `Σ m v`.
     pub fn linear_momentum(&self) -> D::Vector {
-        self.velocities
-            .iter()
-            .zip(&self.masses)
-            .fold(D::zero(), |s, (&v, &m)| s + v * m)
+        diagnostics::linear_momentum::<D>(&self.velocities, &self.masses)
     }
 
     /// Total angular momentum `Σ m x × v` about the origin (3-vector; only `z` in 2D).
     pub fn angular_momentum(&self) -> glam::DVec3 {
-        self.positions
-            .iter()
-            .zip(&self.velocities)
-            .zip(&self.masses)
-            .fold(glam::DVec3::ZERO, |s, ((&x, &v), &m)| {
-                s + D::to_vec3(x).cross(D::to_vec3(v)) * m
-            })
+        diagnostics::angular_momentum::<D>(&self.positions, &self.velocities, &self.masses)
     }
 
     /// Kinetic and strain energy.
     pub fn energy(&self) -> Energy {
-        let kinetic = 0.5
-            * self
-                .velocities
-                .iter()
-                .zip(&self.masses)
-                .map(|(&v, &m)| m * D::norm_squared(v))
-                .sum::<f64>();
+        let kinetic = diagnostics::kinetic_energy::<D>(&self.velocities, &self.masses);
         let c = *self.material.constants();
         let strain = self
             .deformation
@@ -634,15 +609,6 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     }
 }
 
-/// Largest `|v|` over the particles marked free.
-fn max_norm<D: Dim>(v: &[D::Vector], free: &[bool]) -> f64 {
-    v.par_iter()
-        .zip(free)
-        .map(|(&x, &f)| if f { D::norm_squared(x) } else { 0.0 })
-        .reduce(|| 0.0, f64::max)
-        .sqrt()
-}
-
 impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
     fn method(&self) -> &'static str {
         self.shear.method_name()
@@ -650,16 +616,21 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
 
     /// One position-Verlet step (TL paper eq 30–32).
     fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
-        let dt = self.stable_dt().min(max_dt);
-        let min_dt = 1e-14 * self.kernel.h() / self.sound_speed;
-        if !(dt.is_finite() && dt > min_dt) {
+        let stable = self.stable_dt();
+        let min_dt =
+            self.params.min_dt_ratio * self.params.cfl * self.kernel.h() / self.sound_speed;
+        if !(stable.is_finite() && stable > min_dt) {
             return Err(Error::TimeStepCollapsed {
-                dt,
+                dt: stable,
                 min: min_dt,
                 step: self.steps,
                 time: self.time,
             });
         }
+        if max_dt.is_nan() || max_dt <= 0.0 {
+            return Err(Error::invalid("max_dt", max_dt, "> 0"));
+        }
+        let dt = stable.min(max_dt);
         let half = 0.5 * dt;
         // Eq 30: F and x to the half step with the old Ḟ and v.
         half_step::<D>(
@@ -693,7 +664,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             &self.velocities,
             half,
         );
-        self.max_acceleration = max_norm::<D>(&self.accelerations, &self.free);
+        self.max_acceleration = diagnostics::max_norm_where::<D>(&self.accelerations, &self.free);
         self.check_finite()?;
         if !self.probes.is_empty() && self.schedule.due(self.time) {
             self.record_probes();
