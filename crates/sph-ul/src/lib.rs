@@ -1,1 +1,43 @@
-//! sph-ul (filled by its own issue).
+//! # sph-ul: updated-Lagrangian SPH for elastic solids
+//!
+//! One solver, [`UlSolver`], generic over the dimension (`D2`, `D3`), following Zhang,
+//! Lourenço, Wu, Zhang & Hu, "Essentially non-hourglass and non-tensile-instability SPH elastic
+//! dynamics" (the UL paper), §2–5. The shear treatment is chosen when the body is built
+//! ([`Shear`]) and hoisted out of the inner loops:
+//!
+//! - [`Shear::Original`] (`ul-og`): nested shear, velocity gradient → Jaumann rate of the shear
+//!   stress → stress divergence (eq 6–8, 13–14), see [`nested`];
+//! - [`Shear::ArtificialStress`] (`ul-oas`): OG plus Gray–Monaghan–Swift artificial stress, in 2D
+//!   and 3D through the symmetric eigen-decomposition, see [`artificial_stress`];
+//! - [`Shear::NonNested`] (`ul-enog`): shear acceleration accumulated from the angular-momentum
+//!   conservative Laplacian of velocity (eq 19–20), or the non-conservative eq 18, see
+//!   [`non_nested`].
+//!
+//! Pressure and continuity use the low-dissipation Riemann solver (eq 11–12) with the equation of
+//! state `p = c0²(ρ − ρ0)` (eq 4), see [`riemann`]. Time integration is the position-Verlet scheme
+//! (eq 23–25) inside the dual-criteria time stepping of §5 (eq 21–22), see [`stepping`] and
+//! [`solver`]: neighbour lists, kernel data and the correction matrix are rebuilt only at
+//! advection steps and frozen over the acoustic sub-steps; particles are reordered in cell order
+//! at every rebuild ([`UlSolver::original_index`] maps back to the input order).
+//!
+//! Separate bodies: this crate has no inter-body contact. Colliding bodies of one material (the
+//! colliding rings and balls of the paper) are built as **one** UL body whose parts meet through
+//! the ordinary neighbour search, as Gray et al. did; momentum is then conserved by the same
+//! pairwise antisymmetry as inside a body.
+//!
+//! Loops are gathers over each particle's own neighbours, parallel with rayon, so results do not
+//! depend on the thread schedule. Acoustic sub-steps allocate nothing; rebuilds reuse or replace
+//! their own buffers.
+#![deny(missing_docs)]
+
+pub mod artificial_stress;
+pub mod nested;
+pub mod non_nested;
+pub mod riemann;
+pub mod solver;
+pub mod stepping;
+
+pub use non_nested::LaplacianForm;
+pub use riemann::RiemannScheme;
+pub use solver::{Energy, Shear, UlBody, UlParams, UlSolver};
+pub use stepping::Stepping;

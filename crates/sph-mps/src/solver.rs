@@ -1,0 +1,743 @@
+//! The MPS solver: body set-up in the reference configuration (eq 4–6, total Lagrangian) and the
+//! symplectic time step (velocity Verlet, or the paper's symplectic Euler of eq 8) with
+//! `Δt = C l0 / c`.
+
+use crate::pressure::{ResolvedPressure, SurfacePressure};
+use crate::wls::{self, cofactor, weight};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use sph_core::correction::DEFAULT_MIN_EIGENVALUE;
+use sph_core::disorder::disorder_indicator;
+use sph_core::error::{check_non_negative, check_positive};
+use sph_core::neighbor::CellGrid;
+use sph_core::scene::ProbeSchedule;
+use sph_core::solver::first_non_finite;
+use sph_core::{
+    Constraints, Dim, Error, Field, Loads, NeighborList, PairKernel, Probe, Solver, StepInfo,
+};
+use sph_materials::{von_mises, Material};
+
+/// The symplectic time integrator.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Integrator {
+    /// Velocity Verlet (kick–drift–kick; Störmer/Verlet as in Suzuki & Koshizuka 2008):
+    /// symplectic, time-reversible, second order, one force evaluation per step (the forces of
+    /// the end of a step are reused at the start of the next). Positions and velocities are
+    /// synchronous, so the energy `Σ ½mv² + Σ Vψ` oscillates at `O(Δt²)` with no drift. Default.
+    #[default]
+    VelocityVerlet,
+    /// The paper's eq 8 (symplectic Euler): `x^{n+1} = x^n + Δt v^n`,
+    /// `v^{n+1} = v^n + Δt a(x^{n+1})`. Symplectic and first order; its velocities lag the
+    /// positions by half a step, so the measured energy oscillates at `O(Δt)`. The positions
+    /// are those of leapfrog.
+    SymplecticEuler,
+}
+
+/// Numerical parameters. The paper states neither `r_e` nor `C`; the defaults are explained on
+/// each field.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MpsParams {
+    /// Radius of the weight of eq 6 over the initial spacing, `r_e / l0` (> 1). Default 2.1, the
+    /// usual MPS gradient radius (METHODS.md range 2.1–3.1): 12 neighbours in 2D and 32 in 3D on
+    /// a lattice.
+    pub re_over_l0: f64,
+    /// Courant number `C` of `Δt = C l0 / c`, `c = √(K/ρ0)` (> 0). Default 0.1 (see the crate's
+    /// tests for the measured stability limit).
+    pub courant: f64,
+    /// The time integrator (default velocity Verlet).
+    pub integrator: Integrator,
+    /// Velocity damping `c_d` (1/s, ≥ 0) for static problems: `dv/dt = a − c_d v`, applied as the
+    /// exact factor `exp(−c_d Δt/2)` before the first and after the last kick of each step
+    /// (operator splitting, unconditionally stable; rigid motion is damped too). 0 = off
+    /// (default); then the scheme is Hamiltonian.
+    pub damping: f64,
+    /// Guard threshold of the moment matrix `A_i` (scaled to `≈ I`), see
+    /// [`crate::wls::moment_inverse`].
+    pub moment_min_eigenvalue: f64,
+}
+
+impl Default for MpsParams {
+    fn default() -> Self {
+        Self {
+            re_over_l0: 2.1,
+            courant: 0.1,
+            integrator: Integrator::VelocityVerlet,
+            damping: 0.0,
+            moment_min_eigenvalue: DEFAULT_MIN_EIGENVALUE,
+        }
+    }
+}
+
+/// The particles of one body in its reference configuration.
+#[derive(Clone, Debug)]
+pub struct MpsBody<D: Dim> {
+    /// Reference positions `X` (also the initial positions).
+    pub positions: Vec<D::Vector>,
+    /// Reference volumes `V_i` (mass `m_i = ρ0 V_i`).
+    pub volumes: Vec<f64>,
+    /// Initial particle spacing `l0` (the paper's; `dp` elsewhere), sets `r_e` and `Δt`.
+    pub dp: f64,
+    /// Initial velocities (empty = at rest).
+    pub velocities: Vec<D::Vector>,
+}
+
+/// Kinetic and strain energy of the body.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Energy {
+    /// `Σ ½ m v²`.
+    pub kinetic: f64,
+    /// `U = Σ V ψ(F)`, the potential of eq 1.
+    pub strain: f64,
+}
+
+impl Energy {
+    /// Kinetic plus strain energy (the Hamiltonian of a free body).
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.strain
+    }
+}
+
+/// Hamiltonian MPS solver for one body. See the crate documentation.
+pub struct MpsSolver<D: Dim, M: Material<D>> {
+    material: M,
+    params: MpsParams,
+    dp: f64,
+    re: f64,
+    density: f64,
+    sound_speed: f64,
+    // Reference configuration (never changes).
+    reference: Vec<D::Vector>,
+    volumes: Vec<f64>,
+    masses: Vec<f64>,
+    inv_masses: Vec<f64>,
+    list: NeighborList,
+    /// `w_ij X_ij` per pair (`X_ij = X_j − X_i`).
+    wx: Vec<D::Vector>,
+    /// `A_i⁻¹` (eq 5, guarded).
+    a_inv: Vec<D::Matrix>,
+    guarded: usize,
+    /// Reference pair data for the disorder indicator: `w` = eq 6 weight, `r = |X_ij|`.
+    ref_pairs: Vec<PairKernel<D>>,
+    // State.
+    positions: Vec<D::Vector>,
+    velocities: Vec<D::Vector>,
+    deformation: Vec<D::Matrix>,
+    /// `G_i = V_i P_i A_i⁻ᵀ` (eq 7).
+    stress_term: Vec<D::Matrix>,
+    forces: Vec<D::Vector>,
+    accelerations: Vec<D::Vector>,
+    scratch: Vec<D::Vector>,
+    // Scene.
+    constraints: Constraints<D>,
+    loads: Loads<D>,
+    pressures: Vec<ResolvedPressure<D>>,
+    probes: Vec<Probe<D>>,
+    schedule: ProbeSchedule,
+    time: f64,
+    steps: u64,
+}
+
+impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
+    /// Builds the solver: neighbours within `r_e`, the weights of eq 6 and `A_i⁻¹` of eq 5 in
+    /// the reference configuration, and the forces of the initial state.
+    ///
+    /// # Errors
+    /// Empty body, mismatched array lengths, non-positive `dp`/volumes, `re_over_l0 ≤ 1`,
+    /// `courant ≤ 0`, negative damping, non-finite or coincident positions, a material without
+    /// strain energy, or a particle with fewer than `D + 1` neighbours
+    /// ([`Error::TooFewNeighbours`]: its `A_i` is singular or nearly so).
+    pub fn new(body: MpsBody<D>, material: M, params: MpsParams) -> Result<Self, Error> {
+        let n = body.positions.len();
+        if n == 0 {
+            return Err(Error::EmptyBody {
+                body: "mps body".into(),
+            });
+        }
+        check_positive("dp", body.dp)?;
+        if !(params.re_over_l0.is_finite() && params.re_over_l0 > 1.0) {
+            return Err(Error::invalid(
+                "re_over_l0",
+                params.re_over_l0,
+                "finite and > 1 (r_e must reach beyond the nearest neighbours)",
+            ));
+        }
+        check_positive("courant", params.courant)?;
+        check_non_negative("damping", params.damping)?;
+        check_positive("moment_min_eigenvalue", params.moment_min_eigenvalue)?;
+        if body.volumes.len() != n {
+            return Err(Error::invalid(
+                "volumes",
+                body.volumes.len(),
+                &format!("one per particle ({n})"),
+            ));
+        }
+        if let Some(i) = body
+            .volumes
+            .iter()
+            .position(|v| !(v.is_finite() && *v > 0.0))
+        {
+            return Err(Error::invalid(
+                &format!("volumes[{i}]"),
+                body.volumes[i],
+                "> 0 and finite",
+            ));
+        }
+        let velocities = if body.velocities.is_empty() {
+            vec![D::zero(); n]
+        } else if body.velocities.len() == n {
+            if let Some(i) = first_non_finite::<D>(&body.velocities) {
+                return Err(Error::invalid(
+                    &format!("velocities[{i}]"),
+                    format!("{:?}", body.velocities[i]),
+                    "finite",
+                ));
+            }
+            body.velocities
+        } else {
+            return Err(Error::invalid(
+                "velocities",
+                body.velocities.len(),
+                &format!("empty or one per particle ({n})"),
+            ));
+        };
+        if material.strain_energy_density(D::identity()).is_none() {
+            return Err(Error::invalid(
+                "material",
+                material.name(),
+                "a hyperelastic law with a strain energy (the Hamiltonian needs ψ)",
+            ));
+        }
+        let constants = *material.constants();
+        let (density, sound_speed) = (constants.density, constants.sound_speed);
+        let re = params.re_over_l0 * body.dp;
+        let reference = body.positions;
+        let list = CellGrid::<D>::build(&reference, re)?.neighbor_list(&reference, re)?;
+        if let Some(i) = (0..n).find(|&i| list.count(i) < D::D + 1) {
+            return Err(Error::TooFewNeighbours {
+                particle: i,
+                found: list.count(i),
+                required: D::D + 1,
+            });
+        }
+        // Per-pair reference data (eq 6), in list order.
+        let mut wx = vec![D::zero(); list.num_pairs()];
+        let mut ref_pairs = vec![
+            PairKernel::<D> {
+                e: D::zero(),
+                r: 0.0,
+                w: 0.0,
+                dw: 0.0,
+            };
+            list.num_pairs()
+        ];
+        for i in 0..n {
+            for (k, &j) in list.range(i).zip(list.neighbors(i)) {
+                let xij = reference[j as usize] - reference[i];
+                let r = D::norm(xij);
+                if r <= 0.0 {
+                    return Err(Error::invalid(
+                        "positions",
+                        format!("particle {i} coincides with particle {j}"),
+                        "distinct reference positions",
+                    ));
+                }
+                let w = weight(r, re);
+                wx[k] = xij * w;
+                ref_pairs[k] = PairKernel {
+                    e: xij * (-1.0 / r),
+                    r,
+                    w,
+                    dw: 0.0,
+                };
+            }
+        }
+        let inv: Vec<(D::Matrix, bool)> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let pairs = ref_pairs[list.range(i)].iter().map(|p| (p.w, p.e * -p.r));
+                wls::moment_inverse::<D>(pairs, params.moment_min_eigenvalue)
+            })
+            .collect();
+        let guarded = inv.iter().filter(|r| r.1).count();
+        let a_inv = inv.into_iter().map(|r| r.0).collect();
+        let volumes = body.volumes;
+        let masses: Vec<f64> = volumes.iter().map(|v| v * density).collect();
+        let mut solver = Self {
+            material,
+            params,
+            dp: body.dp,
+            re,
+            density,
+            sound_speed,
+            positions: reference.clone(),
+            reference,
+            inv_masses: masses.iter().map(|m| 1.0 / m).collect(),
+            volumes,
+            masses,
+            list,
+            wx,
+            a_inv,
+            guarded,
+            ref_pairs,
+            velocities,
+            deformation: vec![D::identity(); n],
+            stress_term: vec![D::zero_matrix(); n],
+            forces: vec![D::zero(); n],
+            accelerations: vec![D::zero(); n],
+            scratch: vec![D::zero(); n],
+            constraints: Constraints::new(),
+            loads: Loads::new(),
+            pressures: Vec::new(),
+            probes: Vec::new(),
+            schedule: ProbeSchedule::every(0.0)?,
+            time: 0.0,
+            steps: 0,
+        };
+        solver.refresh();
+        Ok(solver)
+    }
+
+    /// Attaches the constraints (velocities at the kicks, accelerations after each force
+    /// evaluation).
+    pub fn with_constraints(mut self, constraints: Constraints<D>) -> Self {
+        self.constraints = constraints;
+        self.refresh();
+        self
+    }
+
+    /// Attaches body accelerations and point forces.
+    pub fn with_loads(mut self, loads: Loads<D>) -> Self {
+        self.loads = loads;
+        self.refresh();
+        self
+    }
+
+    /// Adds a follower surface pressure (see [`crate::pressure`]); normals left `None` are
+    /// estimated from the reference neighbourhood.
+    ///
+    /// # Errors
+    /// Particle indices outside the body, normals or areas of the wrong length, zero or
+    /// non-finite normals, non-positive areas, or an interior particle with estimated normals.
+    pub fn with_surface_pressure(mut self, sp: SurfacePressure<D>) -> Result<Self, Error> {
+        let (list, wx) = (&self.list, &self.wx);
+        let resolved = ResolvedPressure::resolve(sp, self.len(), self.dp, |i| {
+            wx[list.range(i)].iter().fold(D::zero(), |s, &v| s + v)
+        })?;
+        self.pressures.push(resolved);
+        self.refresh();
+        Ok(self)
+    }
+
+    /// Attaches probes, recorded at `t = 0` and then every `interval` of simulated time
+    /// (0 = every step).
+    pub fn with_probes(mut self, probes: Vec<Probe<D>>, interval: f64) -> Result<Self, Error> {
+        self.schedule = ProbeSchedule::every(interval)?;
+        self.probes = probes;
+        if self.schedule.due(self.time) {
+            self.record_probes();
+        }
+        Ok(self)
+    }
+
+    /// Replaces the current positions `x` and velocities `v` (`F`, forces and accelerations are
+    /// recomputed from them). For tests and for starting from a pre-deformed state.
+    ///
+    /// # Errors
+    /// Wrong lengths or non-finite values.
+    pub fn set_configuration(&mut self, x: Vec<D::Vector>, v: Vec<D::Vector>) -> Result<(), Error> {
+        let n = self.len();
+        if x.len() != n || v.len() != n {
+            return Err(Error::invalid(
+                "configuration",
+                format!("{} positions, {} velocities", x.len(), v.len()),
+                &format!("{n} of each"),
+            ));
+        }
+        if let Some(i) = first_non_finite::<D>(&x).or(first_non_finite::<D>(&v)) {
+            return Err(Error::invalid(
+                "configuration",
+                format!("non-finite value at particle {i}"),
+                "finite",
+            ));
+        }
+        self.positions = x;
+        self.velocities = v;
+        self.refresh();
+        Ok(())
+    }
+
+    /// After a state or scene change: velocity constraints, then `F`, forces and accelerations.
+    fn refresh(&mut self) {
+        self.constraints
+            .apply_to_velocities(self.time, &mut self.velocities);
+        self.compute_accelerations();
+    }
+
+    /// `F` (eq 4) and the internal forces (eq 7) of the current positions.
+    fn compute_forces(&mut self) {
+        wls::deformation_and_stress::<D, M>(
+            &self.material,
+            &self.list,
+            &self.wx,
+            &self.a_inv,
+            &self.volumes,
+            &self.positions,
+            &mut self.deformation,
+            &mut self.stress_term,
+        );
+        wls::internal_forces::<D>(&self.list, &self.wx, &self.stress_term, &mut self.forces);
+    }
+
+    /// Accelerations at the current positions and time: internal forces, surface pressure and
+    /// loads, then the constraints.
+    fn compute_accelerations(&mut self) {
+        self.compute_forces();
+        for ((a, &f), &im) in self
+            .accelerations
+            .iter_mut()
+            .zip(&self.forces)
+            .zip(&self.inv_masses)
+        {
+            *a = f * im;
+        }
+        for sp in &self.pressures {
+            let p = sp.pressure.at(self.time);
+            for (&i, &an) in sp.particles.iter().zip(&sp.area_normal) {
+                let i = i as usize;
+                let f = cofactor::<D>(self.deformation[i]) * an * (-p);
+                self.accelerations[i] += f * self.inv_masses[i];
+            }
+        }
+        if !self.loads.is_empty() {
+            self.loads
+                .add_accelerations(self.time, &self.masses, &mut self.accelerations);
+        }
+        self.constraints
+            .apply_to_accelerations(&mut self.accelerations);
+    }
+
+    /// The internal forces `f_i = −∂U/∂x_i` (eq 7 times `m_i`) of the current positions,
+    /// without pressure, loads or constraints. For tests and diagnostics; does not change the
+    /// state.
+    pub fn evaluate_forces(&mut self) -> &[D::Vector] {
+        self.compute_forces();
+        &self.forces
+    }
+
+    /// The internal accelerations `f_i / m_i` (eq 7) of the current positions, without
+    /// pressure, loads or constraints. For tests and diagnostics; does not change the state.
+    pub fn evaluate_accelerations(&mut self) -> &[D::Vector] {
+        self.compute_forces();
+        for ((a, &f), &im) in self
+            .scratch
+            .iter_mut()
+            .zip(&self.forces)
+            .zip(&self.inv_masses)
+        {
+            *a = f * im;
+        }
+        &self.scratch
+    }
+
+    // The per-particle updates below are memory-bound streams; they run on the calling thread
+    // (a rayon hand-off costs more than they do below ~10⁵ particles).
+    fn kick(&mut self, h: f64) {
+        for (v, &a) in self.velocities.iter_mut().zip(&self.accelerations) {
+            *v += a * h;
+        }
+    }
+
+    fn drift(&mut self, h: f64) {
+        for (x, &v) in self.positions.iter_mut().zip(&self.velocities) {
+            *x += v * h;
+        }
+    }
+
+    fn damp(&mut self, h: f64) {
+        if self.params.damping > 0.0 {
+            let factor = (-self.params.damping * h).exp();
+            self.velocities.iter_mut().for_each(|v| *v *= factor);
+        }
+    }
+
+    fn record_probes(&mut self) {
+        for p in &mut self.probes {
+            p.record(self.time, &self.positions, &self.velocities);
+        }
+    }
+
+    fn check_finite(&self) -> Result<(), Error> {
+        let fail = |field: &str, particle: usize| Error::NonFinite {
+            field: field.into(),
+            particle,
+            step: self.steps,
+            time: self.time,
+        };
+        if let Some(i) = first_non_finite::<D>(&self.positions) {
+            return Err(fail("position", i));
+        }
+        if let Some(i) = first_non_finite::<D>(&self.velocities) {
+            return Err(fail("velocity", i));
+        }
+        if let Some(i) = self
+            .deformation
+            .iter()
+            .position(|&f| !D::matrix_is_finite(f))
+        {
+            return Err(fail("deformation gradient", i));
+        }
+        if let Some(i) = first_non_finite::<D>(&self.accelerations) {
+            return Err(fail("acceleration", i));
+        }
+        Ok(())
+    }
+
+    /// The numerical parameters.
+    pub fn params(&self) -> &MpsParams {
+        &self.params
+    }
+
+    /// The material.
+    pub fn material(&self) -> &M {
+        &self.material
+    }
+
+    /// The initial spacing `l0`.
+    pub fn spacing(&self) -> f64 {
+        self.dp
+    }
+
+    /// The weight radius `r_e` of eq 6.
+    pub fn re(&self) -> f64 {
+        self.re
+    }
+
+    /// The reference configuration `X`.
+    pub fn reference_positions(&self) -> &[D::Vector] {
+        &self.reference
+    }
+
+    /// Reference volumes.
+    pub fn volumes(&self) -> &[f64] {
+        &self.volumes
+    }
+
+    /// Particle masses `ρ0 V`.
+    pub fn masses(&self) -> &[f64] {
+        &self.masses
+    }
+
+    /// The neighbour list (reference configuration, `|X_ij| < r_e`).
+    pub fn neighbors(&self) -> &NeighborList {
+        &self.list
+    }
+
+    /// `A_i⁻¹` of eq 5 (guarded).
+    pub fn moment_inverses(&self) -> &[D::Matrix] {
+        &self.a_inv
+    }
+
+    /// How many particles needed the guard of `A_i`.
+    pub fn guarded_particles(&self) -> usize {
+        self.guarded
+    }
+
+    /// Deformation gradients (eq 4) of the current positions.
+    pub fn deformation_gradients(&self) -> &[D::Matrix] {
+        &self.deformation
+    }
+
+    /// Internal forces of the current positions (eq 7 times `m`).
+    pub fn forces(&self) -> &[D::Vector] {
+        &self.forces
+    }
+
+    /// Accelerations of the current state (internal, pressure, loads; constrained).
+    pub fn accelerations(&self) -> &[D::Vector] {
+        &self.accelerations
+    }
+
+    /// Total linear momentum `Σ m v`.
+    pub fn linear_momentum(&self) -> D::Vector {
+        self.velocities
+            .iter()
+            .zip(&self.masses)
+            .fold(D::zero(), |s, (&v, &m)| s + v * m)
+    }
+
+    /// Total angular momentum `Σ m x × v` about the origin (3-vector; only `z` in 2D).
+    pub fn angular_momentum(&self) -> glam::DVec3 {
+        self.positions
+            .iter()
+            .zip(&self.velocities)
+            .zip(&self.masses)
+            .fold(glam::DVec3::ZERO, |s, ((&x, &v), &m)| {
+                s + D::to_vec3(x).cross(D::to_vec3(v)) * m
+            })
+    }
+
+    /// Kinetic energy `Σ ½ m v²` and strain energy `Σ V ψ(F)` of the current state.
+    pub fn energy(&self) -> Energy {
+        let kinetic = 0.5
+            * self
+                .velocities
+                .iter()
+                .zip(&self.masses)
+                .map(|(&v, &m)| m * D::norm_squared(v))
+                .sum::<f64>();
+        let strain = self
+            .deformation
+            .iter()
+            .zip(&self.volumes)
+            .map(|(&f, &v)| v * self.material.strain_energy_density(f).unwrap_or(f64::NAN))
+            .sum();
+        Energy { kinetic, strain }
+    }
+
+    /// The disorder indicator of METHODS.md per particle, with the MPS weights of eq 6 in
+    /// place of the kernel (`e_i = Σ_j w_ij |F_i X_ij − x_ij| / Σ_j w_ij |X_ij|`).
+    pub fn disorder(&self) -> Vec<f64> {
+        disorder_indicator::<D>(
+            &self.list,
+            &self.ref_pairs,
+            &self.reference,
+            &self.positions,
+            &self.deformation,
+        )
+    }
+}
+
+impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
+    fn method(&self) -> &'static str {
+        "mps"
+    }
+
+    /// One symplectic step of `Δt = min(C l0 / c, max_dt)` (see [`Integrator`]).
+    fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
+        let dt = self.stable_dt().min(max_dt);
+        let min_dt = 1e-14 * self.dp / self.sound_speed;
+        if !(dt.is_finite() && dt > min_dt) {
+            return Err(Error::TimeStepCollapsed {
+                dt,
+                min: min_dt,
+                step: self.steps,
+                time: self.time,
+            });
+        }
+        let half = 0.5 * dt;
+        match self.params.integrator {
+            Integrator::VelocityVerlet => {
+                // Kick with a(x^n, t^n) (kept from the previous step), drift, forces at
+                // x^{n+1}, kick.
+                self.damp(half);
+                self.kick(half);
+                self.constraints
+                    .apply_to_velocities(self.time + half, &mut self.velocities);
+                self.drift(dt);
+                self.time += dt;
+                self.compute_accelerations();
+                self.kick(half);
+                self.constraints
+                    .apply_to_velocities(self.time, &mut self.velocities);
+                self.damp(half);
+            }
+            Integrator::SymplecticEuler => {
+                // Eq 8: x^{n+1} = x^n + Δt v^n; v^{n+1} = v^n + Δt a(x^{n+1}).
+                self.damp(half);
+                self.drift(dt);
+                self.time += dt;
+                self.compute_accelerations();
+                self.kick(dt);
+                self.constraints
+                    .apply_to_velocities(self.time, &mut self.velocities);
+                self.damp(half);
+            }
+        }
+        self.steps += 1;
+        self.check_finite()?;
+        if !self.probes.is_empty() && self.schedule.due(self.time) {
+            self.record_probes();
+        }
+        Ok(StepInfo {
+            dt,
+            time: self.time,
+            step: self.steps,
+        })
+    }
+
+    /// `Δt = C l0 / c`, `c = √(K/ρ0)` (constant).
+    fn stable_dt(&self) -> f64 {
+        self.params.courant * self.dp / self.sound_speed
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn step_count(&self) -> u64 {
+        self.steps
+    }
+
+    fn positions(&self) -> &[D::Vector] {
+        &self.positions
+    }
+
+    fn velocities(&self) -> &[D::Vector] {
+        &self.velocities
+    }
+
+    fn field_names(&self) -> Vec<&'static str> {
+        vec![
+            "velocity",
+            "displacement",
+            "jacobian",
+            "density",
+            "von_mises",
+            "disorder",
+            "deformation_gradient",
+        ]
+    }
+
+    fn field(&self, name: &str) -> Option<Field<D>> {
+        Some(match name {
+            "velocity" => Field::Vector(self.velocities.clone()),
+            "displacement" => Field::Vector(
+                self.positions
+                    .iter()
+                    .zip(&self.reference)
+                    .map(|(&x, &x0)| x - x0)
+                    .collect(),
+            ),
+            "jacobian" => Field::Scalar(self.deformation.iter().map(|&f| D::det(f)).collect()),
+            "density" => Field::Scalar(
+                self.deformation
+                    .iter()
+                    .map(|&f| self.density / D::det(f))
+                    .collect(),
+            ),
+            "von_mises" => Field::Scalar(
+                self.deformation
+                    .par_iter()
+                    .map(|&f| von_mises(self.material.cauchy_stress_3d(f)))
+                    .collect(),
+            ),
+            "disorder" => Field::Scalar(self.disorder()),
+            "deformation_gradient" => Field::Matrix(self.deformation.clone()),
+            _ => return None,
+        })
+    }
+
+    fn probes(&self) -> &[Probe<D>] {
+        &self.probes
+    }
+
+    fn energies(&self) -> Option<(f64, f64)> {
+        let e = self.energy();
+        Some((e.kinetic, e.strain))
+    }
+
+    fn momentum(&self) -> Option<glam::DVec3> {
+        Some(D::to_vec3(self.linear_momentum()))
+    }
+}

@@ -1,0 +1,78 @@
+//! Gray–Monaghan–Swift artificial stress for SPH-OAS (Gray, Monaghan & Swift 2001; METHODS.md),
+//! in 2D and 3D through the symmetric eigen-decomposition of the total stress.
+
+use sph_core::{Dim, PairKernel};
+
+/// Default strength `ε` (Gray et al. 2001; the UL paper's OAS runs).
+pub const DEFAULT_EPSILON: f64 = 0.3;
+/// Default exponent `n` of the pair factor `f_ij^n`.
+pub const DEFAULT_EXPONENT: u32 = 4;
+
+/// Gray, Monaghan & Swift (2001), as in METHODS.md: with the total stress `σ = τ − p I`
+/// eigen-decomposed as `Q diag(σ_k) Qᵀ`, `R̄_k = −ε σ_k/ρ²` for `σ_k > 0` (tension), else 0, and
+/// `R = Q diag(R̄) Qᵀ`. The eigen-solver replaces the 2D angle formula, which makes the same code
+/// serve 3D (the UL paper notes OAS had no 3D form).
+#[inline]
+pub fn artificial_stress<D: Dim>(sigma: D::Matrix, rho: f64, epsilon: f64) -> D::Matrix {
+    let (vals, q) = D::symmetric_eigen(sigma);
+    let mut r = vals;
+    let scale = -epsilon / (rho * rho);
+    for k in 0..D::D {
+        let s = D::component(vals, k);
+        D::set_component(&mut r, k, if s > 0.0 { scale * s } else { 0.0 });
+    }
+    D::from_eigen(r, q)
+}
+
+/// Pair term of the artificial stress, Gray et al. (2001):
+/// `m_j f_ij^n (R_i + R_j) ∇_i W_ij`, `f_ij = W(r_ij)/W(dp)`.
+#[inline(always)]
+pub fn artificial_pair_acceleration<D: Dim>(
+    r_i: D::Matrix,
+    r_j: D::Matrix,
+    pair: &PairKernel<D>,
+    inv_w_dp: f64,
+    exponent: u32,
+    m_j: f64,
+) -> D::Vector {
+    let f = (pair.w * inv_w_dp).powi(exponent as i32);
+    (r_i + r_j) * (pair.e * (pair.dw * m_j * f))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{DMat2, DMat3, DVec3};
+    use sph_core::{D2, D3};
+
+    #[test]
+    fn artificial_stress_acts_on_tensile_principal_directions_only_2d() {
+        // 2D: compare with the closed form of Gray et al. (angle tan 2θ = 2σxy/(σxx − σyy)).
+        let (sxx, syy, sxy) = (3.0, -1.0, 1.5);
+        let sigma = DMat2::from_cols_array(&[sxx, sxy, sxy, syy]);
+        let r = artificial_stress::<D2>(sigma, 2.0, 0.3);
+        let theta = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+        let (s, c) = theta.sin_cos();
+        let s1 = c * c * sxx + 2.0 * s * c * sxy + s * s * syy;
+        let s2 = s * s * sxx - 2.0 * s * c * sxy + c * c * syy;
+        let r1 = if s1 > 0.0 { -0.3 * s1 / 4.0 } else { 0.0 };
+        let r2 = if s2 > 0.0 { -0.3 * s2 / 4.0 } else { 0.0 };
+        let rxx = c * c * r1 + s * s * r2;
+        let ryy = s * s * r1 + c * c * r2;
+        let rxy = s * c * (r1 - r2);
+        let expect = DMat2::from_cols_array(&[rxx, rxy, rxy, ryy]);
+        assert!(D2::frobenius(r - expect) < 1e-14, "{r:?} vs {expect:?}");
+    }
+
+    #[test]
+    fn artificial_stress_3d_rotates_with_the_stress() {
+        let q = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 0.7);
+        let diag = DMat3::from_diagonal(DVec3::new(2.0, -1.0, 0.5));
+        let r = artificial_stress::<D3>(q * diag * q.transpose(), 1.0, 0.3);
+        let expect = q * DMat3::from_diagonal(DVec3::new(-0.6, 0.0, -0.15)) * q.transpose();
+        assert!(D3::frobenius(r - expect) < 1e-13);
+        // Pure compression: no artificial stress.
+        let r = artificial_stress::<D3>(DMat3::IDENTITY * -5.0, 1.0, 0.3);
+        assert_eq!(r, DMat3::ZERO);
+    }
+}
