@@ -7,6 +7,7 @@ use crate::wls::{self, cofactor, weight};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::DEFAULT_MIN_EIGENVALUE;
+use sph_core::diagnostics;
 use sph_core::disorder::disorder_indicator;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
@@ -468,29 +469,22 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     }
 
     fn check_finite(&self) -> Result<(), Error> {
-        let fail = |field: &str, particle: usize| Error::NonFinite {
-            field: field.into(),
-            particle,
-            step: self.steps,
-            time: self.time,
-        };
-        if let Some(i) = first_non_finite::<D>(&self.positions) {
-            return Err(fail("position", i));
+        diagnostics::check_finite_state::<D>(
+            &self.positions,
+            &self.velocities,
+            ("deformation gradient", &self.deformation),
+            self.steps,
+            self.time,
+        )?;
+        match first_non_finite::<D>(&self.accelerations) {
+            Some(i) => Err(Error::NonFinite {
+                field: "acceleration".into(),
+                particle: i,
+                step: self.steps,
+                time: self.time,
+            }),
+            None => Ok(()),
         }
-        if let Some(i) = first_non_finite::<D>(&self.velocities) {
-            return Err(fail("velocity", i));
-        }
-        if let Some(i) = self
-            .deformation
-            .iter()
-            .position(|&f| !D::matrix_is_finite(f))
-        {
-            return Err(fail("deformation gradient", i));
-        }
-        if let Some(i) = first_non_finite::<D>(&self.accelerations) {
-            return Err(fail("acceleration", i));
-        }
-        Ok(())
     }
 
     /// The numerical parameters.
@@ -560,32 +554,17 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
 
     /// Total linear momentum `Σ m v`.
     pub fn linear_momentum(&self) -> D::Vector {
-        self.velocities
-            .iter()
-            .zip(&self.masses)
-            .fold(D::zero(), |s, (&v, &m)| s + v * m)
+        diagnostics::linear_momentum::<D>(&self.velocities, &self.masses)
     }
 
     /// Total angular momentum `Σ m x × v` about the origin (3-vector; only `z` in 2D).
     pub fn angular_momentum(&self) -> glam::DVec3 {
-        self.positions
-            .iter()
-            .zip(&self.velocities)
-            .zip(&self.masses)
-            .fold(glam::DVec3::ZERO, |s, ((&x, &v), &m)| {
-                s + D::to_vec3(x).cross(D::to_vec3(v)) * m
-            })
+        diagnostics::angular_momentum::<D>(&self.positions, &self.velocities, &self.masses)
     }
 
     /// Kinetic energy `Σ ½ m v²` and strain energy `Σ V ψ(F)` of the current state.
     pub fn energy(&self) -> Energy {
-        let kinetic = 0.5
-            * self
-                .velocities
-                .iter()
-                .zip(&self.masses)
-                .map(|(&v, &m)| m * D::norm_squared(v))
-                .sum::<f64>();
+        let kinetic = diagnostics::kinetic_energy::<D>(&self.velocities, &self.masses);
         let strain = self
             .deformation
             .iter()
