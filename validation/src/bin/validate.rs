@@ -2,13 +2,14 @@
 //!
 //! ```text
 //! cargo run --release -p sph-validation --bin validate -- tl [--medium] [--fine] [--force]
+//! cargo run --release -p sph-validation --bin validate -- mps [--full] [--force]
 //! cargo run --release -p sph-validation --bin validate -- report
 //! ```
 //! Runs are stored under `validation/results/` and reused unless `--force`; `report` only reads
 //! them.
 
 use clap::{Parser, Subcommand};
-use sph_validation::{tl, workspace_root};
+use sph_validation::{mps, tl, workspace_root};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
@@ -33,6 +34,15 @@ enum Command {
         #[arg(long)]
         force: bool,
     },
+    /// MPS validation runs (MPS paper §IV), then the report.
+    Mps {
+        /// Include the slab at the paper's resolution (hours).
+        #[arg(long)]
+        full: bool,
+        /// Re-run stored runs.
+        #[arg(long)]
+        force: bool,
+    },
     /// Regenerate docs/validation.md from the stored runs.
     Report,
 }
@@ -50,6 +60,12 @@ fn main() -> ExitCode {
             fine,
             medium,
         }) {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    }
+    if let Command::Mps { full, force } = cli.command {
+        if let Err(e) = mps::run_all(mps::Selection { force, full }) {
             eprintln!("error: {e}");
             return ExitCode::from(1);
         }
@@ -78,6 +94,7 @@ fn report() -> Result<(), String> {
     )
     .unwrap();
     tl::report(&mut md, &figs, "validation")?;
+    mps::report(&mut md, &figs, "validation")?;
     let out = docs.join("validation.md");
     let tmp = docs.join("validation.md.tmp");
     std::fs::write(&tmp, md).map_err(|e| e.to_string())?;

@@ -1,15 +1,29 @@
 //! The cases, one module each, and the pieces they share.
 
 pub mod bending_column_3d;
+pub mod cantilever_plate_2d;
+pub mod colliding_rings_2d;
+pub mod mps_common;
 pub mod oscillating_plate_2d;
+pub mod oscillating_plate_3d;
+pub mod pressurised_ring_2d;
+pub mod slab_tension_2d;
+pub mod static_cantilever_2d;
 pub mod tl_common;
 pub mod twisting_column_3d;
+pub mod ul_common;
 
 use crate::Case;
 
 /// Every case, in the order `sph list` shows them.
 pub static ALL: &[&dyn Case] = &[
     &oscillating_plate_2d::OscillatingPlate2d,
+    &oscillating_plate_3d::OscillatingPlate3d,
     &bending_column_3d::BendingColumn3d,
     &twisting_column_3d::TwistingColumn3d,
+    &pressurised_ring_2d::PressurisedRing2d,
+    &slab_tension_2d::SlabTension2d,
+    &colliding_rings_2d::CollidingRings2d,
+    &cantilever_plate_2d::CantileverPlate2d,
+    &static_cantilever_2d::StaticCantilever2d,
 ];

@@ -8,7 +8,8 @@
 //! tip probe is the material point (L, 0), interpolated (Shepard) from the particles around it.
 
 use crate::analysis::{extremes, mean_period};
-use crate::cases::tl_common::{material, run_tl, tl_params, TL_METHODS};
+use crate::cases::tl_common::{material, run_tl, tl_params};
+use crate::cases::ul_common::{run_ul, ul_params, UL_METHODS};
 use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::{finite_or_null, RunOptions, RunRecord};
@@ -22,6 +23,9 @@ use sph_tl::TlBody;
 
 /// `kL` of the first cantilever mode (root of cos kL cosh kL = −1, TL eq 36).
 pub const KL: f64 = 1.875;
+
+/// Methods the plate runs: the TL family (h = 1.15 dp) and the UL family (h = 1.3 dp).
+pub const PLATE_METHODS: &[&str] = &["tl-hf", "tl", "tl-gm", "ul-enog", "ul-og", "ul-oas"];
 
 /// The oscillating plate, 2D plane strain.
 pub struct OscillatingPlate2d;
@@ -77,7 +81,7 @@ impl Case for OscillatingPlate2d {
             name: "oscillating-plate-2d",
             description:
                 "cantilever plate clamped in a base, first-mode initial velocity (TL §4.1, UL §6.1)",
-            methods: TL_METHODS,
+            methods: PLATE_METHODS,
         }
     }
 
@@ -111,6 +115,7 @@ impl Case for OscillatingPlate2d {
             ),
         ];
         specs.extend(tl_params());
+        specs.extend(ul_params());
         let mut p = Params::new("oscillating-plate-2d", specs);
         p.set_text("probe_interval", "5e-4").expect("valid default");
         p
@@ -148,14 +153,46 @@ impl Case for OscillatingPlate2d {
             })
             .collect();
         let base = set.tagged("base")?;
+        let probe_interval = p.f64("probe_interval");
+        let period_theory = thin_plate_period(l, h, e, nu, rho);
+        let end_time = p.f64("end_time");
+        let summarise = move |s: &dyn Solver<D2>, _: &RunRecord| plate_summary(s, period_theory);
+        let tip_at = DVec2::new(l, 0.0);
+        if UL_METHODS.contains(&method) {
+            let constants = *sph_materials::Material::<D2>::constants(&mat);
+            let body = sph_ul::UlBody::<D2> {
+                positions: set.positions().to_vec(),
+                volumes: set.volumes().to_vec(),
+                dp,
+                velocities,
+                densities: Vec::new(),
+            };
+            let reference = set.positions().to_vec();
+            let volumes = set.volumes().to_vec();
+            return run_ul(
+                "oscillating-plate-2d",
+                method,
+                p,
+                body,
+                constants,
+                |s| {
+                    let mut c = Constraints::new();
+                    c.push(Constraint::Fixed { particles: base }, s.len())?;
+                    let tip = Probe::point("tip", tip_at, &reference, &volumes, s.kernel())?;
+                    Ok(s.with_constraints(c)
+                        .with_probes(vec![tip], probe_interval)?)
+                },
+                end_time,
+                options,
+                summarise,
+            );
+        }
         let body = TlBody::<D2> {
             positions: set.positions().to_vec(),
             volumes: set.volumes().to_vec(),
             dp,
             velocities,
         };
-        let probe_interval = p.f64("probe_interval");
-        let period_theory = thin_plate_period(l, h, e, nu, rho);
         run_tl(
             "oscillating-plate-2d",
             method,
@@ -168,7 +205,7 @@ impl Case for OscillatingPlate2d {
                 c.push(Constraint::Fixed { particles: base }, n)?;
                 let tip = Probe::point(
                     "tip",
-                    DVec2::new(l, 0.0),
+                    tip_at,
                     s.reference_positions(),
                     s.volumes(),
                     s.kernel(),
@@ -176,9 +213,9 @@ impl Case for OscillatingPlate2d {
                 Ok(s.with_constraints(c)
                     .with_probes(vec![tip], probe_interval)?)
             },
-            p.f64("end_time"),
+            end_time,
             options,
-            move |s, _| plate_summary(s, period_theory),
+            summarise,
         )
     }
 }

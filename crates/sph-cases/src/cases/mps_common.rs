@@ -1,0 +1,135 @@
+//! What the MPS-method cases share: the Hamiltonian model's numerical parameters as case keys,
+//! the probe helper, and the run tail ([`run_mps`], the MPS counterpart of
+//! [`crate::cases::tl_common::run_tl`]).
+
+use crate::cases::tl_common::{meta, schedule};
+use crate::error::CaseError;
+use crate::params::{Param, Params, Range};
+use crate::runner::{drive, RunOptions, RunRecord};
+use serde_json::{json, Map, Value as Json};
+use sph_core::{Dim, Probe, Solver, WendlandC2};
+use sph_materials::MaterialModel;
+use sph_mps::{Integrator, MpsBody, MpsParams, MpsSolver};
+
+/// The MPS method names.
+pub const MPS_METHODS: &[&str] = &["mps"];
+
+/// Keys every MPS case accepts. Defaults: `sph_mps::MpsParams::default()` (the MPS paper gives
+/// neither `r_e` nor the Courant number; see that type's documentation); `damping` is 0 (the
+/// Hamiltonian scheme) unless a case says otherwise.
+pub fn mps_params() -> Vec<Param> {
+    let d = MpsParams::default();
+    vec![
+        Param::float(
+            "re_over_l0",
+            d.re_over_l0,
+            Range::Open(1.0, 6.0),
+            "weight radius r_e / l0 of MPS eq 6",
+        ),
+        Param::float(
+            "courant",
+            d.courant,
+            Range::Open(0.0, 1.0),
+            "C of Δt = C l0 / c0",
+        ),
+        Param::choice(
+            "integrator",
+            "velocity-verlet",
+            &["velocity-verlet", "symplectic-euler"],
+            "symplectic integrator (symplectic-euler = MPS eq 8)",
+        ),
+        Param::float(
+            "damping",
+            d.damping,
+            Range::NonNegative,
+            "velocity damping c_d (1/s) for static problems; 0 = Hamiltonian",
+        ),
+        Param::float(
+            "snapshot_interval",
+            0.0,
+            Range::NonNegative,
+            "simulated time between HDF5 snapshots (0: first and last only)",
+        ),
+        Param::float(
+            "monitor_interval",
+            0.0,
+            Range::NonNegative,
+            "time between disorder/energy samples (0: end_time/200)",
+        ),
+        Param::float(
+            "probe_interval",
+            0.0,
+            Range::NonNegative,
+            "time between probe samples (0: every step)",
+        ),
+    ]
+}
+
+/// The numerical parameters from the case keys.
+pub fn mps_numerics(p: &Params) -> MpsParams {
+    MpsParams {
+        re_over_l0: p.f64("re_over_l0"),
+        courant: p.f64("courant"),
+        integrator: match p.text("integrator") {
+            "symplectic-euler" => Integrator::SymplecticEuler,
+            _ => Integrator::VelocityVerlet,
+        },
+        damping: p.f64("damping"),
+        ..MpsParams::default()
+    }
+}
+
+/// A probe on the material point `x_star`, Shepard-interpolated with a Wendland C2 kernel of
+/// `h = 1.15 dp` (the TL cases' kernel, so MPS and TL probes of a case observe the same point).
+pub fn point_probe<D: Dim>(
+    name: &str,
+    x_star: D::Vector,
+    reference: &[D::Vector],
+    volumes: &[f64],
+    dp: f64,
+) -> Result<Probe<D>, CaseError> {
+    let kernel = WendlandC2::<D>::from_spacing(dp, 1.15)?;
+    Ok(Probe::point(name, x_star, reference, volumes, &kernel)?)
+}
+
+/// Output fields written with every snapshot.
+pub const MPS_FIELDS: &[&str] = &[
+    "velocity",
+    "displacement",
+    "von_mises",
+    "jacobian",
+    "disorder",
+];
+
+/// Builds an MPS solver and runs it: the tail every MPS case shares.
+#[allow(clippy::too_many_arguments)]
+pub fn run_mps<D: Dim>(
+    case: &str,
+    p: &Params,
+    body: MpsBody<D>,
+    material: MaterialModel,
+    attach: impl FnOnce(MpsSolver<D, MaterialModel>) -> Result<MpsSolver<D, MaterialModel>, CaseError>,
+    end_time: f64,
+    options: &RunOptions,
+    summarise: impl FnOnce(&dyn Solver<D>, &RunRecord) -> Map<String, Json>,
+) -> Result<(RunRecord, Map<String, Json>), CaseError>
+where
+    MaterialModel: sph_materials::Material<D>,
+{
+    let solver = MpsSolver::new(body, material, mps_numerics(p))?;
+    let mut solver = attach(solver)?;
+    let mut meta = meta(case, "mps", p, solver.len());
+    meta.insert(
+        "guarded_particles".into(),
+        json!(solver.guarded_particles()),
+    );
+    meta.insert("re".into(), json!(solver.re()));
+    drive::<D>(
+        &mut solver,
+        meta,
+        schedule(p, end_time),
+        MPS_FIELDS,
+        options,
+        summarise,
+    )
+}

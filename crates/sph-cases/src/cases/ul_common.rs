@@ -1,0 +1,136 @@
+//! What the UL-method cases share: the UL paper's numerical parameters as case keys, the method
+//! name → shear treatment mapping, and the run tail.
+
+use crate::cases::tl_common::{meta, schedule};
+use crate::error::CaseError;
+use crate::params::{Param, Params, Range};
+use crate::runner::{drive, RunOptions, RunRecord};
+use serde_json::{json, Map, Value as Json};
+use sph_core::{Dim, Solver};
+use sph_materials::ElasticConstants;
+use sph_ul::{LaplacianForm, Shear, Stepping, UlBody, UlParams, UlSolver};
+
+/// The UL methods.
+pub const UL_METHODS: &[&str] = &["ul-enog", "ul-og", "ul-oas"];
+
+/// Keys every UL case accepts (defaults: UL paper §5–6).
+pub fn ul_params() -> Vec<Param> {
+    vec![
+        Param::float(
+            "ul_h_over_dp",
+            1.3,
+            Range::Closed(0.5, 3.0),
+            "UL smoothing length / dp",
+        ),
+        Param::choice(
+            "stepping",
+            "dual",
+            &["dual", "single"],
+            "dual-criteria (advection + acoustic) or single-criterion time stepping",
+        ),
+        Param::float(
+            "ul_zeta",
+            0.0,
+            Range::NonNegative,
+            "ENOG ζ (0: 0.7 d + 2.1, the paper's value for h = 1.3 dp)",
+        ),
+        Param::choice(
+            "enog_form",
+            "conservative",
+            &["conservative", "non-conservative"],
+            "ENOG Laplacian: eq 19 (conservative) or eq 18",
+        ),
+        Param::float(
+            "as_epsilon",
+            0.3,
+            Range::NonNegative,
+            "OAS artificial-stress ε",
+        ),
+        Param::int("as_n", 4, Range::Closed(1.0, 16.0), "OAS exponent n"),
+    ]
+}
+
+/// The UL shear treatment of a method name.
+pub fn ul_shear_of(method: &str, p: &Params) -> Result<Shear, CaseError> {
+    Ok(match method {
+        "ul-og" => Shear::Original,
+        "ul-oas" => Shear::ArtificialStress {
+            epsilon: p.f64("as_epsilon"),
+            n: p.int("as_n") as u32,
+        },
+        "ul-enog" => Shear::NonNested {
+            zeta: (p.f64("ul_zeta") > 0.0).then(|| p.f64("ul_zeta")),
+            form: if p.text("enog_form") == "conservative" {
+                LaplacianForm::Conservative
+            } else {
+                LaplacianForm::NonConservative
+            },
+        },
+        other => {
+            return Err(CaseError::UnknownMethod {
+                case: "ul".into(),
+                method: other.into(),
+                allowed: UL_METHODS.join(", "),
+            })
+        }
+    })
+}
+
+/// The numerical parameters from the case keys.
+pub fn ul_numerics(p: &Params) -> UlParams {
+    UlParams {
+        h_over_dp: p.f64("ul_h_over_dp"),
+        stepping: if p.text("stepping") == "dual" {
+            Stepping::Dual
+        } else {
+            Stepping::Single
+        },
+        ..UlParams::default()
+    }
+}
+
+/// Output fields written with every UL snapshot.
+pub const UL_FIELDS: &[&str] = &[
+    "velocity",
+    "displacement",
+    "density",
+    "pressure",
+    "von_mises",
+    "disorder",
+    "original_index",
+];
+
+/// Builds a UL solver and runs it: the tail every UL case shares. `attach` receives the solver
+/// with particle indices still in the input order (the solver remaps them).
+#[allow(clippy::too_many_arguments)]
+pub fn run_ul<D: Dim>(
+    case: &str,
+    method: &str,
+    p: &Params,
+    body: UlBody<D>,
+    constants: ElasticConstants,
+    attach: impl FnOnce(UlSolver<D>) -> Result<UlSolver<D>, CaseError>,
+    end_time: f64,
+    options: &RunOptions,
+    summarise: impl FnOnce(&dyn Solver<D>, &RunRecord) -> Map<String, Json>,
+) -> Result<(RunRecord, Map<String, Json>), CaseError> {
+    let shear = ul_shear_of(method, p)?;
+    let solver = UlSolver::new(body, constants, shear, ul_numerics(p))?;
+    let mut solver = attach(solver)?;
+    let mut meta = meta(case, method, p, solver.len());
+    meta.insert(
+        "guarded_particles".into(),
+        json!(solver.guarded_particles()),
+    );
+    let (record, mut summary) = drive::<D>(
+        &mut solver,
+        meta,
+        schedule(p, end_time),
+        UL_FIELDS,
+        options,
+        summarise,
+    )?;
+    summary.insert("acoustic_steps".into(), json!(solver.acoustic_step_count()));
+    summary.insert("neighbour_rebuilds".into(), json!(solver.rebuild_count()));
+    Ok((record, summary))
+}
