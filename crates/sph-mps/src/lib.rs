@@ -18,9 +18,11 @@
 //! do not depend on the thread schedule.
 #![deny(missing_docs)]
 
+pub mod contact;
 pub mod pressure;
 pub mod solver;
 pub mod wls;
 
+pub use contact::Contact;
 pub use pressure::{PressureFunction, SurfacePressure};
 pub use solver::{Energy, Integrator, MpsBody, MpsParams, MpsSolver};

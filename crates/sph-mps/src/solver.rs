@@ -2,6 +2,7 @@
 //! symplectic time step (velocity Verlet, or the paper's symplectic Euler of eq 8) with
 //! `Δt = C l0 / c`.
 
+use crate::contact::{Contact, ResolvedContact};
 use crate::pressure::{ResolvedPressure, SurfacePressure};
 use crate::wls::{self, cofactor, weight};
 use rayon::prelude::*;
@@ -88,7 +89,7 @@ pub struct MpsBody<D: Dim> {
 pub struct Energy {
     /// `Σ ½ m v²`.
     pub kinetic: f64,
-    /// `U = Σ V ψ(F)`, the potential of eq 1.
+    /// `U = Σ V ψ(F)`, the potential of eq 1 (plus the contact potential when contact is on).
     pub strain: f64,
 }
 
@@ -133,6 +134,8 @@ pub struct MpsSolver<D: Dim, M: Material<D>> {
     constraints: Constraints<D>,
     loads: Loads<D>,
     pressures: Vec<ResolvedPressure<D>>,
+    contact: Option<ResolvedContact>,
+    contact_energy: f64,
     probes: Vec<Probe<D>>,
     schedule: ProbeSchedule,
     time: f64,
@@ -290,6 +293,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             constraints: Constraints::new(),
             loads: Loads::new(),
             pressures: Vec::new(),
+            contact: None,
+            contact_energy: 0.0,
             probes: Vec::new(),
             schedule: ProbeSchedule::every(0.0)?,
             time: 0.0,
@@ -388,6 +393,13 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             &mut self.stress_term,
         );
         wls::internal_forces::<D>(&self.list, &self.wx, &self.stress_term, &mut self.forces);
+        if let Some(c) = &self.contact {
+            // Positions are finite here (checked after every step), so the search cannot fail;
+            // a failure would surface as NaN energy.
+            self.contact_energy = c
+                .add_forces::<D>(&self.positions, &mut self.forces)
+                .unwrap_or(f64::NAN);
+        }
     }
 
     /// Accelerations at the current positions and time: internal forces, surface pressure and
@@ -562,6 +574,22 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         diagnostics::angular_momentum::<D>(&self.positions, &self.velocities, &self.masses)
     }
 
+    /// Adds penalty contact between the bodies of this solver (see [`crate::contact`]).
+    ///
+    /// # Errors
+    /// A `body_of` of the wrong length, or a non-positive distance or stiffness factor.
+    pub fn with_contact(mut self, contact: Contact) -> Result<Self, Error> {
+        let youngs = self.material.constants().youngs_modulus;
+        self.contact = Some(ResolvedContact::new::<D>(
+            contact,
+            self.len(),
+            self.dp,
+            youngs,
+        )?);
+        self.refresh();
+        Ok(self)
+    }
+
     /// Kinetic energy `Σ ½ m v²` and strain energy `Σ V ψ(F)` of the current state.
     pub fn energy(&self) -> Energy {
         let kinetic = diagnostics::kinetic_energy::<D>(&self.velocities, &self.masses);
@@ -570,7 +598,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             .iter()
             .zip(&self.volumes)
             .map(|(&f, &v)| v * self.material.strain_energy_density(f).unwrap_or(f64::NAN))
-            .sum();
+            .sum::<f64>()
+            + self.contact_energy;
         Energy { kinetic, strain }
     }
 

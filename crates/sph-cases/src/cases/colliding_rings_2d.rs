@@ -6,15 +6,16 @@
 //! particles per ring), SVK with `K = 3.25e6`, `μ = 7.15e5`, `ρ = 1000`, each ring moving
 //! toward the other at `v0 = 0.2` m/s. Centres at `x = ±(r_out + gap/2)`.
 //!
-//! **No contact.** Both rings are one MPS body (`MpsSolver` takes one body), and the
-//! Hamiltonian MPS model's neighbours and weights are fixed in the reference configuration, so
-//! particles of different rings never interact: the rings pass through each other. (The paper's
-//! rings do collide — it shows the stress at the moment of collision — so its code must have had
-//! a contact treatment it does not describe.) Adding contact would need a change in `sph-mps`
-//! (e.g. a momentum-conserving pairwise repulsion between particles of different bodies within
-//! `dp`); until then this case is a kinematic check only, and the summary says so
-//! (`contact: false`, `interpenetration_max`). `gap` must be at least `r_e`, or the reference
-//! neighbour search would glue the rings together.
+//! **Contact.** Both rings are one MPS body (`MpsSolver` takes one body), and the Hamiltonian
+//! MPS model's neighbours and weights are fixed in the reference configuration, so without a
+//! contact model particles of different rings never interact and the rings pass through each
+//! other. The paper's rings do collide (it shows the stress at the moment of collision) but the
+//! paper does not describe its contact treatment; with `contact = true` (default) the rings
+//! interact through `sph_mps::contact`, a central penalty potential between particles of
+//! different rings closer than `dp` (stiffness `contact_stiffness · E`), which keeps the model
+//! Hamiltonian (momentum and energy conserved). `contact = false` reproduces the pass-through.
+//! `gap` must be at least `r_e`, or the reference neighbour search would glue the rings
+//! together.
 //!
 //! Summary: the separation of the rings' facing outer particles over time (negative = the rings
 //! overlap), its minimum, the mean x-velocity of each ring at the end, the total x-momentum.
@@ -29,7 +30,7 @@ use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{annulus_polar, ParticleSet};
 use sph_core::{Probe, Solver, D2};
 use sph_materials::{ElasticConstants, MaterialKind};
-use sph_mps::MpsBody;
+use sph_mps::{Contact, MpsBody};
 
 /// Two colliding rings, MPS.
 pub struct CollidingRings2d;
@@ -38,7 +39,7 @@ impl Case for CollidingRings2d {
     fn info(&self) -> CaseInfo {
         CaseInfo {
             name: "colliding-rings-2d",
-            description: "two SVK rings moving toward each other (MPS §IV.C; no contact in MPS)",
+            description: "two SVK rings colliding (MPS §IV.C), penalty contact between the rings",
             methods: &["mps"],
         }
     }
@@ -64,6 +65,17 @@ impl Case for CollidingRings2d {
             Param::float("shear_modulus", 7.15e5, Range::Positive, "μ (Pa)"),
             Param::float("density", 1000.0, Range::Positive, "ρ0 (kg/m³)"),
             Param::float("end_time", 0.1, Range::Positive, "simulated time (s)"),
+            Param::bool(
+                "contact",
+                true,
+                "penalty contact between the rings (sph_mps::contact)",
+            ),
+            Param::float(
+                "contact_stiffness",
+                1.0,
+                Range::Positive,
+                "contact stiffness factor κ (k = κ E dp^(d−2))",
+            ),
         ];
         specs.extend(mps_params());
         let mut p = Params::new("colliding-rings-2d", specs);
@@ -132,12 +144,24 @@ impl Case for CollidingRings2d {
             velocities,
         };
         let interval = p.f64("probe_interval");
+        let contact = p.flag("contact").then(|| Contact {
+            body_of: (0..body.positions.len())
+                .map(|i| (i >= nl) as u32)
+                .collect(),
+            distance_over_dp: 1.0,
+            stiffness_factor: p.f64("contact_stiffness"),
+        });
+        let has_contact = contact.is_some();
         run_mps(
             "colliding-rings-2d",
             p,
             body,
             mat,
             |s| {
+                let s = match contact {
+                    Some(c) => s.with_contact(c)?,
+                    None => s,
+                };
                 Ok(s.with_probes(
                     vec![
                         Probe::particle("left_front", lf),
@@ -148,14 +172,14 @@ impl Case for CollidingRings2d {
             },
             p.f64("end_time"),
             options,
-            move |s, _| rings_summary(s, nl, dp),
+            move |s, _| rings_summary(s, nl, dp, has_contact),
         )
     }
 }
 
-fn rings_summary(s: &dyn Solver<D2>, nl: usize, dp: f64) -> Map<String, Json> {
+fn rings_summary(s: &dyn Solver<D2>, nl: usize, dp: f64, contact: bool) -> Map<String, Json> {
     let mut m = Map::new();
-    m.insert("contact".into(), json!(false));
+    m.insert("contact".into(), json!(contact));
     let probe = |name: &str| s.probes().iter().find(|p| p.name == name);
     if let (Some(l), Some(r)) = (probe("left_front"), probe("right_front")) {
         // Separation of the facing surfaces: particle centres sit dp/2 inside the surface.
