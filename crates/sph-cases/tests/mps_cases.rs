@@ -56,19 +56,21 @@ fn slab_tension_runs() {
 }
 
 #[test]
-fn colliding_rings_run_and_say_there_is_no_contact() {
-    let s = run(
-        "colliding-rings-2d",
-        "mps",
-        &["dp=0.005", "gap=0.012", "end_time=1e-3"],
-        &[
-            "front_separation_min",
-            "interpenetration_max",
-            "left_velocity_final",
-            "contact",
-        ],
-    );
-    assert_eq!(s["contact"], serde_json::json!(false));
+fn colliding_rings_run_with_and_without_contact() {
+    for (flag, expect) in [("contact=true", true), ("contact=false", false)] {
+        let s = run(
+            "colliding-rings-2d",
+            "mps",
+            &["dp=0.005", "gap=0.012", "end_time=1e-3", flag],
+            &[
+                "front_separation_min",
+                "interpenetration_max",
+                "left_velocity_final",
+                "contact",
+            ],
+        );
+        assert_eq!(s["contact"], serde_json::json!(expect));
+    }
     let c = find_case("colliding-rings-2d").unwrap();
     let mut p = c.params();
     p.apply_assignment("gap=0.001").unwrap();
