@@ -100,7 +100,7 @@ fn list(verbose: bool) {
     for case in all_cases() {
         let info = case.info();
         println!(
-            "{:<24} {:<22} {}",
+            "{:<24} {:<38} {}",
             info.name,
             info.methods.join(","),
             info.description
