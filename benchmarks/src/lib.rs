@@ -37,6 +37,11 @@ pub const TL_BENCH_RESOLUTIONS: [i64; 3] = [6, 12, 24];
 /// Methods of the TL benchmark.
 pub const TL_BENCH_METHODS: [&str; 3] = ["tl", "tl-hf", "tl-gm"];
 
+/// The MPS step benchmark: the MPS paper's cantilever plate, MPS beside TL-HF.
+pub const MPS_BENCH_GROUP: &str = "mps-step-cantilever-plate";
+/// Resolutions (H/dp) of the MPS benchmark.
+pub const MPS_BENCH_RESOLUTIONS: [i64; 3] = [5, 10, 20];
+
 /// A `n³` lattice of spacing `1/n` with every point displaced by up to `±jitter·dp` per axis
 /// (deterministic SplitMix64 stream), so that distances are not all ties. Returns the points and dp.
 pub fn jittered_lattice_3d(n: usize, jitter: f64) -> (Vec<DVec3>, f64) {

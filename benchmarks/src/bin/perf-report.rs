@@ -7,7 +7,8 @@
 //! Benchmarks that have not been run are listed as missing rather than invented.
 
 use sph_benchmarks::{
-    read_mean, NEIGHBOR_BENCH, TL_BENCH_GROUP, TL_BENCH_METHODS, TL_BENCH_RESOLUTIONS,
+    read_mean, MPS_BENCH_GROUP, MPS_BENCH_RESOLUTIONS, NEIGHBOR_BENCH, TL_BENCH_GROUP,
+    TL_BENCH_METHODS, TL_BENCH_RESOLUTIONS,
 };
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -22,6 +23,7 @@ fn main() {
     header(&mut md);
     neighbor_section(&mut md, &criterion);
     tl_section(&mut md, &criterion);
+    mps_section(&mut md, &criterion);
     std::fs::create_dir_all(out.parent().unwrap()).expect("create docs/");
     let tmp = out.with_extension("md.tmp");
     std::fs::write(&tmp, &md).expect("write docs/performance.md");
@@ -153,6 +155,58 @@ fn tl_section(md: &mut String, criterion: &Path) {
                     }
                     None => writeln!(md, "| {res} | {n} | {threads} | {method} | not run | | |")
                         .unwrap(),
+                }
+            }
+        }
+    }
+    writeln!(md).unwrap();
+}
+
+fn mps_section(md: &mut String, criterion: &Path) {
+    writeln!(
+        md,
+        "## MPS step beside TL-HF, cantilever plate 2D (MPS paper §IV.D)\n"
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "One step of the Hamiltonian MPS model (r_e = 2.1 l0, velocity Verlet) and of TL-HF on the \
+         same particles: the MPS paper's plate (free length 0.2 m, H = 0.02 m, 0.04 m in a 3-layer \
+         base), SVK K = 3.25 MPa, μ = 0.715 MPa. Command: `cargo bench -p sph-benchmarks --bench \
+         mps_step`. Per unit of simulated time MPS also takes more steps: its Δt = 0.1 l0/c0 \
+         against TL-HF's 0.6 h/(c0 + |v|) with h = 1.15 l0, i.e. about 6.9× as many.\n"
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "| H/dp | threads | method | time per step (ms) | particle-steps/s |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|").unwrap();
+    for res in MPS_BENCH_RESOLUTIONS {
+        for threads in [1, 2] {
+            for method in ["mps", "tl-hf"] {
+                let e = read_mean(
+                    criterion,
+                    MPS_BENCH_GROUP,
+                    &format!("{method}/{threads}-thread"),
+                    &res.to_string(),
+                );
+                // Particle count of the plate exactly as the bench builds it.
+                let n = sph_cases::cases::oscillating_plate_2d::plate_particles(
+                    0.2, 0.02, res, 0.04, 3,
+                )
+                .map(|(set, _)| set.len() as f64)
+                .unwrap_or(f64::NAN);
+                match e {
+                    Some(e) => writeln!(
+                        md,
+                        "| {res} | {threads} | {method} | {:.3} | {:.3e} |",
+                        e.point_estimate * 1e-6,
+                        n / (e.point_estimate * 1e-9)
+                    )
+                    .unwrap(),
+                    None => writeln!(md, "| {res} | {threads} | {method} | not run | |").unwrap(),
                 }
             }
         }
