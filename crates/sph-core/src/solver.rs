@@ -97,6 +97,43 @@ pub trait Solver<D: Dim>: Send {
     }
 }
 
+/// The kinematic output fields every total-Lagrangian method (one with a deformation gradient
+/// per particle) shares: `velocity`, `displacement` (x − X), `jacobian` (det F), `density`
+/// (ρ0/J) and `deformation_gradient`. `None` for any other name, so a solver handles its own
+/// fields (stress, disorder) and falls back to this.
+pub fn deformation_field<D: Dim>(
+    name: &str,
+    positions: &[D::Vector],
+    reference: &[D::Vector],
+    velocities: &[D::Vector],
+    deformation: &[D::Matrix],
+    density: f64,
+) -> Option<Field<D>> {
+    Some(match name {
+        "velocity" => Field::Vector(velocities.to_vec()),
+        "displacement" => Field::Vector(
+            positions
+                .iter()
+                .zip(reference)
+                .map(|(&x, &x0)| x - x0)
+                .collect(),
+        ),
+        "jacobian" => Field::Scalar(deformation.iter().map(|&f| D::det(f)).collect()),
+        "density" => Field::Scalar(deformation.iter().map(|&f| density / D::det(f)).collect()),
+        "deformation_gradient" => Field::Matrix(deformation.to_vec()),
+        _ => return None,
+    })
+}
+
+/// Names of the fields [`deformation_field`] computes.
+pub const DEFORMATION_FIELDS: [&str; 5] = [
+    "velocity",
+    "displacement",
+    "jacobian",
+    "density",
+    "deformation_gradient",
+];
+
 /// Index of the first non-finite vector, if any (run-time blow-up detection).
 pub fn first_non_finite<D: Dim>(v: &[D::Vector]) -> Option<usize> {
     v.iter().position(|&x| !D::is_finite(x))

@@ -12,6 +12,7 @@ use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
 use sph_core::pairs::pair_kernels;
 use sph_core::scene::ProbeSchedule;
+use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
 use sph_core::{
     Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe, Solver,
     StepInfo, WendlandC2,
@@ -705,44 +706,29 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
     }
 
     fn field_names(&self) -> Vec<&'static str> {
-        vec![
-            "velocity",
-            "displacement",
-            "jacobian",
-            "density",
-            "von_mises",
-            "disorder",
-            "deformation_gradient",
-        ]
+        let mut names = DEFORMATION_FIELDS.to_vec();
+        names.extend(["von_mises", "disorder"]);
+        names
     }
 
     fn field(&self, name: &str) -> Option<Field<D>> {
-        Some(match name {
-            "velocity" => Field::Vector(self.velocities.clone()),
-            "displacement" => Field::Vector(
-                self.positions
-                    .iter()
-                    .zip(&self.reference)
-                    .map(|(&x, &x0)| x - x0)
-                    .collect(),
-            ),
-            "jacobian" => Field::Scalar(self.deformation.iter().map(|&f| D::det(f)).collect()),
-            "density" => Field::Scalar(
-                self.deformation
-                    .iter()
-                    .map(|&f| self.density / D::det(f))
-                    .collect(),
-            ),
-            "von_mises" => Field::Scalar(
+        match name {
+            "von_mises" => Some(Field::Scalar(
                 self.deformation
                     .par_iter()
                     .map(|&f| von_mises(self.cauchy_3d(f)))
                     .collect(),
+            )),
+            "disorder" => Some(Field::Scalar(self.disorder())),
+            _ => deformation_field::<D>(
+                name,
+                &self.positions,
+                &self.reference,
+                &self.velocities,
+                &self.deformation,
+                self.density,
             ),
-            "disorder" => Field::Scalar(self.disorder()),
-            "deformation_gradient" => Field::Matrix(self.deformation.clone()),
-            _ => return None,
-        })
+        }
     }
 
     fn probes(&self) -> &[Probe<D>] {
