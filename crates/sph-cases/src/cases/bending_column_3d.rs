@@ -102,49 +102,73 @@ impl Case for BendingColumn3d {
         options: &RunOptions,
     ) -> Result<(RunRecord, Map<String, Json>), CaseError> {
         let (h, l) = (p.f64("cross_section"), p.f64("length"));
-        let kind: MaterialKind = p.text("material").parse()?;
-        let mat = material(kind, p.f64("youngs_modulus"), p.f64("nu"), p.f64("density"))?;
-        let (set, dp) = column_particles(h, l, p.int("resolution"), p.int("clamp_layers"))?;
         let dir = DVec3::new(3f64.sqrt() / 2.0, 0.5, 0.0);
         let v0 = dir * p.f64("velocity");
-        let velocities = set
-            .positions()
-            .iter()
-            .map(|x| if x.z > 0.0 { v0 } else { DVec3::ZERO })
-            .collect();
-        let clamp = set.tagged("clamp")?;
-        let body = TlBody::<D3> {
-            positions: set.positions().to_vec(),
-            volumes: set.volumes().to_vec(),
-            dp,
-            velocities,
-        };
-        let interval = p.f64("probe_interval");
         let s_point = DVec3::new(h, h, l);
-        run_tl(
+        run_column(
             "bending-column-3d",
             method,
             p,
-            body,
-            mat,
-            |s| {
-                let n = s.len();
-                let mut c = Constraints::new();
-                c.push(Constraint::Fixed { particles: clamp }, n)?;
-                let probe = Probe::point(
-                    "S",
-                    s_point,
-                    s.reference_positions(),
-                    s.volumes(),
-                    s.kernel(),
-                )?;
-                Ok(s.with_constraints(c).with_probes(vec![probe], interval)?)
-            },
-            p.f64("end_time"),
             options,
+            |_| v0,
+            ("S", s_point),
             move |s, _| column_summary(s, s_point, dir),
         )
     }
+}
+
+/// Builds the clamped column of the column cases (material, particles, clamp, one point probe)
+/// with the initial velocity `velocity(x)` on the column (zero in the clamp) and runs it with a
+/// TL method.
+pub fn run_column(
+    case: &str,
+    method: &str,
+    p: &Params,
+    options: &RunOptions,
+    velocity: impl Fn(DVec3) -> DVec3,
+    (probe_name, probe_at): (&str, DVec3),
+    summarise: impl FnOnce(&dyn Solver<D3>, &RunRecord) -> Map<String, Json>,
+) -> Result<(RunRecord, Map<String, Json>), CaseError> {
+    let (h, l) = (p.f64("cross_section"), p.f64("length"));
+    let kind: MaterialKind = p.text("material").parse()?;
+    let mat = material(kind, p.f64("youngs_modulus"), p.f64("nu"), p.f64("density"))?;
+    let (set, dp) = column_particles(h, l, p.int("resolution"), p.int("clamp_layers"))?;
+    let velocities = set
+        .positions()
+        .iter()
+        .map(|&x| if x.z > 0.0 { velocity(x) } else { DVec3::ZERO })
+        .collect();
+    let clamp = set.tagged("clamp")?;
+    let body = TlBody::<D3> {
+        positions: set.positions().to_vec(),
+        volumes: set.volumes().to_vec(),
+        dp,
+        velocities,
+    };
+    let interval = p.f64("probe_interval");
+    run_tl(
+        case,
+        method,
+        p,
+        body,
+        mat,
+        |s| {
+            let n = s.len();
+            let mut c = Constraints::new();
+            c.push(Constraint::Fixed { particles: clamp }, n)?;
+            let probe = Probe::point(
+                probe_name,
+                probe_at,
+                s.reference_positions(),
+                s.volumes(),
+                s.kernel(),
+            )?;
+            Ok(s.with_constraints(c).with_probes(vec![probe], interval)?)
+        },
+        p.f64("end_time"),
+        options,
+        summarise,
+    )
 }
 
 /// Extremes of point S's coordinates, and the bending period from its displacement along the

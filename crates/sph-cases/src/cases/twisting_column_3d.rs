@@ -5,17 +5,15 @@
 //! `v = ω × (x − axis)`; neo-Hookean, ν = 0.499 for Ω0 = 105 (0.49 for 300 and 400).
 
 use crate::analysis::extremes;
-use crate::cases::bending_column_3d::{column_params, column_particles};
-use crate::cases::tl_common::{material, run_tl, tl_params, TL_METHODS};
+use crate::cases::bending_column_3d::{column_params, run_column};
+use crate::cases::tl_common::{tl_params, TL_METHODS};
 use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
-use sph_core::{Constraint, Constraints, Probe, Solver, D3};
-use sph_materials::MaterialKind;
-use sph_tl::TlBody;
+use sph_core::{Solver, D3};
 
 /// The twisting column.
 pub struct TwistingColumn3d;
@@ -51,58 +49,24 @@ impl Case for TwistingColumn3d {
         options: &RunOptions,
     ) -> Result<(RunRecord, Map<String, Json>), CaseError> {
         let (h, l) = (p.f64("cross_section"), p.f64("length"));
-        let kind: MaterialKind = p.text("material").parse()?;
-        let mat = material(kind, p.f64("youngs_modulus"), p.f64("nu"), p.f64("density"))?;
-        let (set, dp) = column_particles(h, l, p.int("resolution"), p.int("clamp_layers"))?;
         let omega0 = p.f64("omega0");
         let centre = DVec3::new(0.5 * h, 0.5 * h, 0.0);
-        let velocities = set
-            .positions()
-            .iter()
-            .map(|&x| {
-                if x.z > 0.0 {
-                    let w = DVec3::new(
-                        0.0,
-                        0.0,
-                        omega0 * (std::f64::consts::PI * x.z / (2.0 * l)).sin(),
-                    );
-                    let r = x - centre;
-                    w.cross(DVec3::new(r.x, r.y, 0.0))
-                } else {
-                    DVec3::ZERO
-                }
-            })
-            .collect();
-        let clamp = set.tagged("clamp")?;
-        let body = TlBody::<D3> {
-            positions: set.positions().to_vec(),
-            volumes: set.volumes().to_vec(),
-            dp,
-            velocities,
-        };
-        let interval = p.f64("probe_interval");
         let corner = DVec3::new(h, h, l);
-        run_tl(
+        run_column(
             "twisting-column-3d",
             method,
             p,
-            body,
-            mat,
-            |s| {
-                let n = s.len();
-                let mut c = Constraints::new();
-                c.push(Constraint::Fixed { particles: clamp }, n)?;
-                let probe = Probe::point(
-                    "tip_corner",
-                    corner,
-                    s.reference_positions(),
-                    s.volumes(),
-                    s.kernel(),
-                )?;
-                Ok(s.with_constraints(c).with_probes(vec![probe], interval)?)
-            },
-            p.f64("end_time"),
             options,
+            |x| {
+                let w = DVec3::new(
+                    0.0,
+                    0.0,
+                    omega0 * (std::f64::consts::PI * x.z / (2.0 * l)).sin(),
+                );
+                let r = x - centre;
+                w.cross(DVec3::new(r.x, r.y, 0.0))
+            },
+            ("tip_corner", corner),
             move |s, _| twist_summary(s, corner, centre),
         )
     }
