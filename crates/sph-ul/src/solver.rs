@@ -507,7 +507,7 @@ impl<D: Dim> UlSolver<D> {
             ));
         }
         self.volumes
-            .par_iter_mut()
+            .iter_mut()
             .zip(&self.masses)
             .zip(&self.densities)
             .for_each(|((v, &m), &rho)| *v = m / rho);
@@ -564,8 +564,9 @@ impl<D: Dim> UlSolver<D> {
     /// Eq. (4) for every particle.
     fn update_pressures(&mut self) {
         let (rho0, c0) = (self.rho0, self.c0);
+        // Element-wise loops are memory-bound and tiny: on this thread (no pool hand-off).
         self.pressures
-            .par_iter_mut()
+            .iter_mut()
             .zip(&self.densities)
             .for_each(|(p, &rho)| *p = pressure(rho, rho0, c0));
     }
@@ -609,7 +610,7 @@ impl<D: Dim> UlSolver<D> {
             &self.correction,
         );
         let (g, rho0_c0, scheme) = (self.g, self.rho0 * self.c0, self.params.riemann);
-        self.rates.par_iter_mut().enumerate().for_each(|(i, out)| {
+        gather(&mut self.rates, |i, out| {
             let (v_i, p_i, rho_i) = (x_v[i], p[i], rho[i]);
             let mut drho = 0.0;
             let mut l = D::zero_matrix();
@@ -655,13 +656,10 @@ impl<D: Dim> UlSolver<D> {
                 inv_w_dp,
             } => {
                 let (tau, p, rho) = (&self.stress, &self.pressures, &self.densities);
-                self.artificial
-                    .par_iter_mut()
-                    .enumerate()
-                    .for_each(|(i, r)| {
-                        let sigma = tau[i] - D::identity() * p[i];
-                        *r = artificial_stress::artificial_stress::<D>(sigma, rho[i], epsilon);
-                    });
+                gather(&mut self.artificial, |i, r| {
+                    let sigma = tau[i] - D::identity() * p[i];
+                    *r = artificial_stress::artificial_stress::<D>(sigma, rho[i], epsilon);
+                });
                 self.forces_loop(
                     ArtificialShear {
                         tau: &self.stress,
@@ -694,7 +692,7 @@ impl<D: Dim> UlSolver<D> {
             &self.pressures,
         );
         let (rho0, c0, scheme) = (self.rho0, self.c0, self.params.riemann);
-        out.par_iter_mut().enumerate().for_each(|(i, a)| {
+        gather(out, |i, a| {
             let (v_i, p_i, inv_rho_i) = (vel[i], p[i], 1.0 / rho[i]);
             let mut acc = D::zero();
             for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
@@ -741,7 +739,7 @@ impl<D: Dim> UlSolver<D> {
             .apply_to_accelerations(&mut self.accelerations);
         // Eq 24.
         self.velocities
-            .par_iter_mut()
+            .iter_mut()
             .zip(&self.accelerations)
             .for_each(|(v, &a)| *v += a * dt);
         self.time += dt;
@@ -753,7 +751,7 @@ impl<D: Dim> UlSolver<D> {
         // Eq 20: accumulate A_s (never reset); used by the next step.
         if !self.accumulated.is_empty() {
             self.accumulated
-                .par_iter_mut()
+                .iter_mut()
                 .zip(&self.rates)
                 .for_each(|(a, r)| *a += r.shear * dt);
         }
@@ -762,17 +760,18 @@ impl<D: Dim> UlSolver<D> {
     }
 
     /// `x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt` (eq 23 and 25).
+    /// Element-wise, on this thread: the pool hand-off costs more than these loops.
     fn drift(&mut self, h: f64) {
         self.positions
-            .par_iter_mut()
+            .iter_mut()
             .zip(&self.velocities)
             .for_each(|(x, &v)| *x += v * h);
         self.densities
-            .par_iter_mut()
+            .iter_mut()
             .zip(&self.rates)
             .for_each(|(rho, r)| *rho += r.density * h);
         self.stress
-            .par_iter_mut()
+            .iter_mut()
             .zip(&self.rates)
             .for_each(|(t, r)| *t += r.stress * h);
     }
@@ -1022,6 +1021,22 @@ impl<D: Dim> ShearForce<D> for AccumulatedShear<'_, D> {
     }
 }
 
+/// Bodies smaller than this run the neighbour gathers on the calling thread (as
+/// `sph_mps::wls::PARALLEL_THRESHOLD`): below it the hand-off to the rayon pool costs more than
+/// the loop. Results are identical either way (gathers write only their own entry and sum in
+/// neighbour-list order).
+pub const PARALLEL_THRESHOLD: usize = 1024;
+
+/// `f(i, &mut out[i])` for every `i`: on the rayon pool for large bodies, else on this thread.
+#[inline]
+fn gather<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
+    if out.len() >= PARALLEL_THRESHOLD {
+        out.par_iter_mut().enumerate().for_each(|(i, o)| f(i, o));
+    } else {
+        out.iter_mut().enumerate().for_each(|(i, o)| f(i, o));
+    }
+}
+
 /// Checks a per-particle array: length `n` (or empty if `optional`), every entry finite and > 0.
 fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Result<(), Error> {
     if v.len() != n && !(optional && v.is_empty()) {
@@ -1044,10 +1059,10 @@ fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Resul
 
 /// Largest `|v|` over the particles marked free.
 fn max_norm<D: Dim>(v: &[D::Vector], free: &[bool]) -> f64 {
-    v.par_iter()
+    v.iter()
         .zip(free)
         .map(|(&x, &f)| if f { D::norm_squared(x) } else { 0.0 })
-        .reduce(|| 0.0, f64::max)
+        .fold(0.0, f64::max)
         .sqrt()
 }
 
