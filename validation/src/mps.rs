@@ -4,7 +4,7 @@
 //! indicator over time for the ring, the slab and the rings.
 
 use crate::plot::{line_plot, Series};
-use crate::store::{load, run_or_load, StoredRun};
+use crate::store::{fmt_opt, load, pct, run_or_load, StoredRun};
 use sph_cases::CaseError;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -127,14 +127,6 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
         f,
     )?;
     Ok(())
-}
-
-fn fmt_opt(x: Option<f64>, digits: usize) -> String {
-    x.map_or("–".into(), |v| format!("{v:.digits$}"))
-}
-
-fn pct(x: Option<f64>) -> String {
-    x.map_or("–".into(), |v| format!("{:+.2} %", 100.0 * v))
 }
 
 fn status(r: &StoredRun) -> &str {

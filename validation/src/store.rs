@@ -154,3 +154,13 @@ pub fn run_or_load(
     })?;
     Ok(run)
 }
+
+/// A number with `digits` decimals, or `–` when absent.
+pub fn fmt_opt(x: Option<f64>, digits: usize) -> String {
+    x.map_or("–".into(), |v| format!("{v:.digits$}"))
+}
+
+/// A relative difference as a signed percentage, or `–` when absent.
+pub fn pct(x: Option<f64>) -> String {
+    x.map_or("–".into(), |v| format!("{:+.2} %", 100.0 * v))
+}

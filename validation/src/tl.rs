@@ -2,7 +2,7 @@
 //! the disorder indicator at large amplitude, and the twisting column at extreme Ω0.
 
 use crate::plot::{line_plot, Series};
-use crate::store::{load, run_or_load, StoredRun};
+use crate::store::{fmt_opt, load, pct, run_or_load, StoredRun};
 use sph_cases::CaseError;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -150,14 +150,6 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
         }
     }
     Ok(())
-}
-
-fn fmt_opt(x: Option<f64>, digits: usize) -> String {
-    x.map_or("–".into(), |v| format!("{v:.digits$}"))
-}
-
-fn pct(x: Option<f64>) -> String {
-    x.map_or("–".into(), |v| format!("{:+.2} %", 100.0 * v))
 }
 
 /// Appends the TL sections to `md`, writing figures into `fig_dir` (linked as `rel/…`).

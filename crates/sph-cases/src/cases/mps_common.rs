@@ -19,7 +19,7 @@ pub const MPS_METHODS: &[&str] = &["mps"];
 /// Hamiltonian scheme) unless a case says otherwise.
 pub fn mps_params() -> Vec<Param> {
     let d = MpsParams::default();
-    vec![
+    let mut v = vec![
         Param::float(
             "re_over_l0",
             d.re_over_l0,
@@ -44,25 +44,9 @@ pub fn mps_params() -> Vec<Param> {
             Range::NonNegative,
             "velocity damping c_d (1/s) for static problems; 0 = Hamiltonian",
         ),
-        Param::float(
-            "snapshot_interval",
-            0.0,
-            Range::NonNegative,
-            "simulated time between HDF5 snapshots (0: first and last only)",
-        ),
-        Param::float(
-            "monitor_interval",
-            0.0,
-            Range::NonNegative,
-            "time between disorder/energy samples (0: end_time/200)",
-        ),
-        Param::float(
-            "probe_interval",
-            0.0,
-            Range::NonNegative,
-            "time between probe samples (0: every step)",
-        ),
-    ]
+    ];
+    v.extend(crate::runner::output_params());
+    v
 }
 
 /// The numerical parameters from the case keys.

@@ -64,7 +64,7 @@ impl Case for OscillatingPlate3d {
             Param::float("density", 1000.0, Range::Positive, "ρ0 (kg/m³)"),
             Param::float("end_time", 0.15, Range::Positive, "simulated time (s)"),
         ];
-        specs.extend(crate::cases::tl_common::tl_params());
+        specs.extend(crate::runner::output_params());
         specs.extend(ul_params());
         let mut p = Params::new("oscillating-plate-3d", specs);
         p.set_text("probe_interval", "1e-4").expect("valid default");

@@ -14,7 +14,7 @@ pub const TL_METHODS: &[&str] = &["tl-hf", "tl", "tl-gm"];
 
 /// Keys every TL case accepts (defaults: TL paper §4).
 pub fn tl_params() -> Vec<Param> {
-    vec![
+    let mut v = vec![
         Param::float(
             "h_over_dp",
             1.15,
@@ -30,25 +30,9 @@ pub fn tl_params() -> Vec<Param> {
             "α of the Ganzenmüller penalty (tl-gm)",
         ),
         Param::bool("damping", true, "Kelvin–Voigt damping (TL eq 23–24)"),
-        Param::float(
-            "snapshot_interval",
-            0.0,
-            Range::NonNegative,
-            "simulated time between HDF5 snapshots (0: first and last only)",
-        ),
-        Param::float(
-            "monitor_interval",
-            0.0,
-            Range::NonNegative,
-            "time between disorder/energy samples (0: end_time/200)",
-        ),
-        Param::float(
-            "probe_interval",
-            0.0,
-            Range::NonNegative,
-            "time between probe samples (0: every step)",
-        ),
-    ]
+    ];
+    v.extend(crate::runner::output_params());
+    v
 }
 
 /// The shear treatment of a TL method name.
