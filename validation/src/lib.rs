@@ -7,6 +7,7 @@ pub mod mps;
 pub mod plot;
 pub mod store;
 pub mod tl;
+pub mod ul;
 
 use std::path::PathBuf;
 

@@ -4,7 +4,7 @@
 //! indicator over time for the ring, the slab and the rings.
 
 use crate::plot::{line_plot, Series};
-use crate::store::{fmt_opt, load, pct, run_or_load, StoredRun};
+use crate::store::{fmt_opt, load, pct, rel, run_or_load, status};
 use sph_cases::CaseError;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -14,8 +14,8 @@ use std::path::Path;
 const PLATE_RES: [u32; 3] = [5, 10, 20];
 /// r_e / l0 of the sensitivity study.
 const RES_RE: [f64; 3] = [2.1, 2.5, 3.0];
-/// Static cantilever resolutions (10 is the paper's dp = 0.002).
-const STATIC_RES: [u32; 3] = [5, 10, 20];
+/// Static cantilever resolutions (10 is the paper's dp = 0.002; 40 shows the convergence).
+const STATIC_RES: [u32; 4] = [5, 10, 20, 40];
 
 fn plate_id(method: &str, res: u32, re: f64) -> String {
     format!("mps-plate-{method}-r{res}-re{re}")
@@ -127,17 +127,6 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
         f,
     )?;
     Ok(())
-}
-
-fn status(r: &StoredRun) -> &str {
-    r.summary
-        .get("status")
-        .and_then(|s| s.as_str())
-        .unwrap_or("?")
-}
-
-fn rel(a: Option<f64>, b: Option<f64>) -> Option<f64> {
-    a.zip(b).map(|(a, b)| a / b - 1.0)
 }
 
 /// Appends the MPS sections to `md`, writing figures into `fig_dir` (linked as `rel/…`).

@@ -108,3 +108,85 @@ pub fn line_plot(
     root.present().map_err(|e| err(&e))?;
     Ok(())
 }
+
+/// One panel of a particle picture: points `(x, y, value)`.
+pub struct Frame {
+    /// Panel title (e.g. the method and time).
+    pub title: String,
+    /// Particles: position and the colouring value.
+    pub points: Vec<(f64, f64, f64)>,
+}
+
+/// Colour of `s ∈ [0, 1]`: blue (0) through green to red (1).
+fn heat(s: f64) -> HSLColor {
+    let s = if s.is_finite() {
+        s.clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    HSLColor(0.66 * (1.0 - s), 0.9, 0.45)
+}
+
+/// Particle pictures: the frames side by side (same axes, equal aspect), particles coloured by
+/// value from 0 (blue) to `vmax` (red; larger values saturate), `columns` panels per row;
+/// particles are drawn as discs of diameter ≈ `dp` (at least one pixel).
+pub fn particle_frames(
+    path: &Path,
+    title: &str,
+    frames: &[Frame],
+    columns: usize,
+    vmax: f64,
+    dp: f64,
+) -> Result<(), String> {
+    register_font();
+    let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    if frames.is_empty() {
+        return Err(format!("{}: nothing to plot", path.display()));
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y, _) in frames.iter().flat_map(|f| f.points.iter()) {
+        if x.is_finite() && y.is_finite() {
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+    }
+    if x0 > x1 {
+        return Err(format!("{}: no finite particle", path.display()));
+    }
+    let pad = 0.03 * (x1 - x0).max(y1 - y0);
+    let (x0, x1, y0, y1) = (x0 - pad, x1 + pad, y0 - pad, y1 + pad);
+    let columns = columns.clamp(1, frames.len());
+    let rows = frames.len().div_ceil(columns);
+    let panel_w = (1600 / columns as u32).max(200);
+    let plot_h = ((panel_w - 20) as f64 * (y1 - y0) / (x1 - x0)).clamp(60.0, 900.0) as u32;
+    let panel_h = plot_h + 40;
+    let root = BitMapBackend::new(path, (panel_w * columns as u32, panel_h * rows as u32 + 60))
+        .into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let caption = format!("{title} — colour 0 (blue) … {vmax:.3e} (red)");
+    let (head, body) = root.split_vertically(60);
+    head.titled(&caption, ("sans-serif", 20))
+        .map_err(|e| err(&e))?;
+    let panels = body.split_evenly((rows, columns));
+    let radius = ((panel_w as f64 / (x1 - x0) * 0.45 * dp).round() as i32).clamp(1, 4);
+    for (frame, area) in frames.iter().zip(panels) {
+        let mut chart = ChartBuilder::on(&area)
+            .caption(&frame.title, ("sans-serif", 16))
+            .margin(8)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| err(&e))?;
+        chart
+            .draw_series(
+                frame
+                    .points
+                    .iter()
+                    .filter(|p| p.0.is_finite() && p.1.is_finite())
+                    .map(|&(x, y, v)| Circle::new((x, y), radius, heat(v / vmax).filled())),
+            )
+            .map_err(|e| err(&e))?;
+    }
+    root.present().map_err(|e| err(&e))?;
+    Ok(())
+}

@@ -89,6 +89,19 @@ pub fn run_or_load(
     set: &[String],
     force: bool,
 ) -> Result<StoredRun, CaseError> {
+    run_or_load_then(id, case, method, set, force, &|_| Ok(()))
+}
+
+/// [`run_or_load`], and when the run is actually made, `after` reads its results file (the
+/// snapshots) before it is deleted — for pictures, which are written next to the report.
+pub fn run_or_load_then(
+    id: &str,
+    case: &str,
+    method: &str,
+    set: &[String],
+    force: bool,
+    after: &dyn Fn(&sph_output::FileContents) -> Result<(), String>,
+) -> Result<StoredRun, CaseError> {
     if !force {
         if let Some(r) = load(id) {
             if r.set == set && r.method == method && r.case == case {
@@ -98,7 +111,7 @@ pub fn run_or_load(
     }
     let c = find_case(case)?;
     let method = resolve_method(c, Some(method))?;
-    let mut params = c.params();
+    let mut params = c.params_for(method);
     for a in set {
         params.apply_assignment(a)?;
     }
@@ -115,6 +128,7 @@ pub fn run_or_load(
     let mut probes = Map::new();
     if let Some(file) = &record.file {
         let contents = sph_output::read_file(file)?;
+        after(&contents).map_err(CaseError::Config)?;
         for (name, p) in contents.probes {
             let stride = p.times.len().div_ceil(2000).max(1);
             let pick = |k: usize| -> Vec<f64> {
@@ -163,4 +177,17 @@ pub fn fmt_opt(x: Option<f64>, digits: usize) -> String {
 /// A relative difference as a signed percentage, or `–` when absent.
 pub fn pct(x: Option<f64>) -> String {
     x.map_or("–".into(), |v| format!("{:+.2} %", 100.0 * v))
+}
+
+/// The run's status (`completed` or `failed: …`).
+pub fn status(r: &StoredRun) -> &str {
+    r.summary
+        .get("status")
+        .and_then(|s| s.as_str())
+        .unwrap_or("?")
+}
+
+/// `a/b − 1` when both are present.
+pub fn rel(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    a.zip(b).map(|(a, b)| a / b - 1.0)
 }

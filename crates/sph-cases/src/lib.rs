@@ -34,8 +34,16 @@ pub trait Case: Sync {
     /// Name, description, methods.
     fn info(&self) -> CaseInfo;
 
-    /// The parameters with their defaults.
+    /// The parameters with their defaults (those of the case's first method).
     fn params(&self) -> Params;
+
+    /// The parameters with the defaults of `method`'s paper, where a case's method families
+    /// come from papers with different set-ups (same keys, other defaults). Default:
+    /// [`Case::params`].
+    fn params_for(&self, method: &str) -> Params {
+        let _ = method;
+        self.params()
+    }
 
     /// Builds the scene for `method` with `params` and runs it. On a failure mid-run the
     /// results file is still completed and `record.failure` says what happened.

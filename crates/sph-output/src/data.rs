@@ -64,6 +64,14 @@ pub struct Dataset {
 }
 
 impl Dataset {
+    /// The values when they are f64 (row-major), else `None`.
+    pub fn as_f64(&self) -> Option<&[f64]> {
+        match &self.data {
+            DatasetData::F64 { values, .. } => Some(values),
+            _ => None,
+        }
+    }
+
     /// An f64 dataset of any shape.
     pub fn f64(name: impl Into<String>, values: Vec<f64>, shape: Vec<usize>) -> Self {
         Dataset {

@@ -106,12 +106,25 @@ fn list(verbose: bool) {
             info.description
         );
         if verbose {
-            for p in case.params().specs() {
-                let default = match &p.default {
-                    Value::Text(s) => format!("\"{s}\""),
-                    v => v.to_string(),
-                };
-                println!("    {:<20} = {:<14} {}", p.key, default, p.help);
+            let show = |v: &Value| match v {
+                Value::Text(s) => format!("\"{s}\""),
+                v => v.to_string(),
+            };
+            let base = case.params();
+            for p in base.specs() {
+                println!("    {:<20} = {:<14} {}", p.key, show(&p.default), p.help);
+            }
+            // Defaults that another method's paper sets differently.
+            for m in info.methods.iter().skip(1) {
+                for (a, b) in base.specs().iter().zip(case.params_for(m).specs()) {
+                    if a.default != b.default {
+                        println!(
+                            "    {:<20} = {:<14} with --method {m}",
+                            b.key,
+                            show(&b.default)
+                        );
+                    }
+                }
             }
         }
     }
@@ -130,30 +143,41 @@ fn run(
     threads: Option<usize>,
 ) -> Result<bool, CaseError> {
     let case = find_case(&case_name)?;
-    let mut params = case.params();
     let mut method = method;
-    if let Some(path) = &config {
-        let text = std::fs::read_to_string(path).map_err(|e| CaseError::Io {
-            path: path.display().to_string(),
-            source: e,
-        })?;
-        let extras = params.apply_toml(&text, &path.display().to_string())?;
-        if let Some(c) = extras.case {
-            if c != case_name {
-                return Err(CaseError::Config(format!(
-                    "{}: names case `{c}` but `{case_name}` was asked for",
-                    path.display()
-                )));
+    // The method decides the defaults (`Case::params_for`), so it is resolved before the
+    // configuration file and the assignments are applied on top of its defaults.
+    let toml = match &config {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| CaseError::Io {
+                path: path.display().to_string(),
+                source: e,
+            })?;
+            let extras = case
+                .params()
+                .apply_toml(&text, &path.display().to_string())?;
+            if let Some(c) = extras.case {
+                if c != case_name {
+                    return Err(CaseError::Config(format!(
+                        "{}: names case `{c}` but `{case_name}` was asked for",
+                        path.display()
+                    )));
+                }
             }
+            if method.is_none() {
+                method = extras.method;
+            }
+            Some((text, path.display().to_string()))
         }
-        if method.is_none() {
-            method = extras.method;
-        }
+        None => None,
+    };
+    let method = resolve_method(case, method.as_deref())?;
+    let mut params = case.params_for(method);
+    if let Some((text, name)) = &toml {
+        params.apply_toml(text, name)?;
     }
     for a in &set {
         params.apply_assignment(a)?;
     }
-    let method = resolve_method(case, method.as_deref())?;
     let backend: Backend = backend.parse()?;
     if !backend.is_available() {
         return Err(CaseError::Config(format!(

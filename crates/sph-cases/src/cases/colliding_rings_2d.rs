@@ -1,26 +1,42 @@
-//! CASES.md 16 (MPS variant): two colliding rubber rings (MPS paper §IV.C, Fig. 3; after Gray,
-//! Monaghan & Swift 2001).
+//! CASES.md 16: two colliding rubber rings — the MPS variant (MPS paper §IV.C, Fig. 3; after
+//! Gray, Monaghan & Swift 2001) and the UL variant (UL paper §6.3, Fig. 11–14).
 //!
-//! Rings of inner/outer radius 0.03/0.04 m (the paper prints "diameters of 0.03 cm and 0.04 cm";
-//! its source, Gray et al., uses radii 3 and 4 cm), `annulus_polar` with `dp = 0.001` (2,199
-//! particles per ring), SVK with `K = 3.25e6`, `μ = 7.15e5`, `ρ = 1000`, each ring moving
-//! toward the other at `v0 = 0.2` m/s. Centres at `x = ±(r_out + gap/2)`.
+//! Rings of inner/outer radius 0.03/0.04 m (the MPS paper prints "diameters of 0.03 cm and
+//! 0.04 cm"; its source, Gray et al., and the UL paper use radii 3 and 4 cm), `annulus_polar`
+//! with `dp = 0.001` (2,199 particles per ring; the UL paper relaxes its particles with a level
+//! set, we keep the polar rings). Each family keeps its paper's set-up as its defaults
+//! (`Case::params_for`; the keys are the same):
 //!
-//! **Contact.** Both rings are one MPS body (`MpsSolver` takes one body), and the Hamiltonian
-//! MPS model's neighbours and weights are fixed in the reference configuration, so without a
-//! contact model particles of different rings never interact and the rings pass through each
-//! other. The paper's rings do collide (it shows the stress at the moment of collision) but the
-//! paper does not describe its contact treatment; with `contact = true` (default) the rings
-//! interact through `sph_mps::contact`, a central penalty potential between particles of
-//! different rings closer than `dp` (stiffness `contact_stiffness · E`), which keeps the model
-//! Hamiltonian (momentum and energy conserved). `contact = false` reproduces the pass-through.
-//! `gap` must be at least `r_e`, or the reference neighbour search would glue the rings
-//! together.
+//! | | `mps` | `ul-enog`, `ul-og`, `ul-oas` |
+//! |---|---|---|
+//! | material | SVK, K = 3.25e6, μ = 7.15e5, ρ = 1000 | linear (UL), E = 1e7, ν = 0.4, ρ = 1200 |
+//! | speed `v0` of each ring | 0.2 m/s (`v0_unit = m/s`) | 0.06 c0 (`v0_unit = c0`; 0.07, 0.08 in Fig. 13–14) |
+//! | gap between the rings | 0.005 | 0.01 (centres 0.09 apart) |
+//! | interaction | penalty contact (below) | one UL body: the kernel couples the rings |
+//! | end time | 0.1 s | 0.02 s |
+//!
+//! **MPS contact.** Both rings are one MPS body, and the Hamiltonian MPS model's neighbours and
+//! weights are fixed in the reference configuration, so without a contact model particles of
+//! different rings never interact and the rings pass through each other. The paper's rings do
+//! collide (it shows the stress at the moment of collision) but the paper does not describe its
+//! contact treatment; with `contact = true` (default) the rings interact through
+//! `sph_mps::contact`, a central penalty potential between particles of different rings closer
+//! than `dp` (stiffness `contact_stiffness · E`), which keeps the model Hamiltonian (momentum and
+//! energy conserved). `contact = false` reproduces the pass-through. `gap` must be at least
+//! `r_e`, or the reference neighbour search would glue the rings together.
+//!
+//! **UL.** The two rings are one body, as in Gray et al.: once closer than the kernel support
+//! they interact through pressure and shear like any two particles of the body (and stick in
+//! tension — the test of tensile instability). `allow_fracture` is on: particles that lose every
+//! neighbour (numerical fracture, expected for SPH-OG) fly on and are counted (`isolated_max`,
+//! `fracture`); `contact` must stay off.
 //!
 //! Summary: the separation of the rings' facing outer particles over time (negative = the rings
-//! overlap), its minimum, the mean x-velocity of each ring at the end, the total x-momentum.
+//! overlap), its minimum, the mean x-velocity of each ring at the end, the total x-momentum, and
+//! `v0_m_per_s`, `v0_over_c0`.
 
 use crate::cases::mps_common::{mps_params, run_mps};
+use crate::cases::ul_common::{run_ul, ul_params, UL_METHODS};
 use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::{finite_or_null, RunOptions, RunRecord};
@@ -28,7 +44,7 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{annulus_polar, ParticleSet};
-use sph_core::{Probe, Solver, D2};
+use sph_core::{Field, Probe, Solver, D2};
 use sph_materials::{ElasticConstants, MaterialKind};
 use sph_mps::{Contact, MpsBody};
 
@@ -39,8 +55,8 @@ impl Case for CollidingRings2d {
     fn info(&self) -> CaseInfo {
         CaseInfo {
             name: "colliding-rings-2d",
-            description: "two SVK rings colliding (MPS §IV.C), penalty contact between the rings",
-            methods: &["mps"],
+            description: "two rubber rings colliding (MPS §IV.C; UL §6.3)",
+            methods: &["mps", "ul-enog", "ul-og", "ul-oas"],
         }
     }
 
@@ -53,7 +69,13 @@ impl Case for CollidingRings2d {
                 "v0",
                 0.2,
                 Range::Any,
-                "speed of each ring toward the other (m/s)",
+                "speed of each ring toward the other (unit: v0_unit)",
+            ),
+            Param::choice(
+                "v0_unit",
+                "m/s",
+                &["m/s", "c0"],
+                "unit of v0: m/s, or the sound speed c0 = √(K/ρ0) (the UL paper's)",
             ),
             Param::float(
                 "gap",
@@ -78,8 +100,33 @@ impl Case for CollidingRings2d {
             ),
         ];
         specs.extend(mps_params());
+        specs.extend(ul_params());
         let mut p = Params::new("colliding-rings-2d", specs);
         p.set_text("probe_interval", "1e-4").expect("valid default");
+        p
+    }
+
+    fn params_for(&self, method: &str) -> Params {
+        let mut p = self.params();
+        if UL_METHODS.contains(&method) {
+            // UL paper §6.3: E = 1e7, ν = 0.4, ρ0 = 1200, centres 0.09 apart, v0 = 0.06 c0.
+            let (e, nu) = (1e7, 0.4);
+            let k = e / (3.0 * (1.0 - 2.0 * nu));
+            let g = e / (2.0 * (1.0 + nu));
+            for (key, value) in [
+                ("bulk_modulus", k.to_string()),
+                ("shear_modulus", g.to_string()),
+                ("density", "1200".into()),
+                ("v0", "0.06".into()),
+                ("v0_unit", "c0".into()),
+                ("gap", "0.01".into()),
+                ("end_time", "0.02".into()),
+                ("contact", "false".into()),
+                ("allow_fracture", "true".into()),
+            ] {
+                p.set_text(key, &value).expect("valid UL default");
+            }
+        }
         p
     }
 
@@ -89,15 +136,25 @@ impl Case for CollidingRings2d {
         p: &Params,
         options: &RunOptions,
     ) -> Result<(RunRecord, Map<String, Json>), CaseError> {
-        crate::resolve_method(self, Some(method))?;
+        let method = crate::resolve_method(self, Some(method))?;
+        let ul = UL_METHODS.contains(&method);
         let (a, b, dp, gap) = (
             p.f64("inner_radius"),
             p.f64("outer_radius"),
             p.f64("dp"),
             p.f64("gap"),
         );
+        if ul && p.flag("contact") {
+            return Err(CaseError::InvalidValue {
+                key: "contact".into(),
+                value: "true".into(),
+                allowed:
+                    "false with UL methods (the rings are one UL body; the kernel couples them)"
+                        .into(),
+            });
+        }
         let re = p.f64("re_over_l0") * dp;
-        if gap < re {
+        if !ul && gap < re {
             return Err(CaseError::InvalidValue {
                 key: "gap".into(),
                 value: gap.to_string(),
@@ -127,15 +184,54 @@ impl Case for CollidingRings2d {
                 .expect("each ring has an outer layer")
         };
         let (lf, rf) = (pick(false), pick(true));
-        let v0 = p.f64("v0");
-        let velocities: Vec<DVec2> = (0..set.len())
-            .map(|i| DVec2::new(if i < nl { v0 } else { -v0 }, 0.0))
-            .collect();
-        let c = ElasticConstants::from_bulk_shear(
+        let (k, mu, rho) = (
             p.f64("bulk_modulus"),
             p.f64("shear_modulus"),
             p.f64("density"),
-        )?;
+        );
+        let c0 = (k / rho).sqrt();
+        let v0 = match p.text("v0_unit") {
+            "c0" => p.f64("v0") * c0,
+            _ => p.f64("v0"),
+        };
+        let velocities: Vec<DVec2> = (0..set.len())
+            .map(|i| DVec2::new(if i < nl { v0 } else { -v0 }, 0.0))
+            .collect();
+        let interval = p.f64("probe_interval");
+        let probes = move || {
+            vec![
+                Probe::particle("left_front", lf),
+                Probe::particle("right_front", rf),
+            ]
+        };
+        let speed = move |mut m: Map<String, Json>| {
+            m.insert("v0_m_per_s".into(), json!(v0));
+            m.insert("v0_over_c0".into(), json!(v0 / c0));
+            m
+        };
+        if ul {
+            let constants = ElasticConstants::from_bulk_shear(k, mu, rho)?;
+            let body = sph_ul::UlBody::<D2> {
+                positions: pos,
+                volumes: set.volumes().to_vec(),
+                dp,
+                velocities,
+                densities: Vec::new(),
+            };
+            // The UL solver reorders particles: ring membership goes by the original index.
+            return run_ul(
+                "colliding-rings-2d",
+                method,
+                p,
+                body,
+                constants,
+                |s| Ok(s.with_probes(probes(), interval)?),
+                p.f64("end_time"),
+                options,
+                move |s, _| speed(rings_summary(s, nl, dp, false)),
+            );
+        }
+        let c = ElasticConstants::from_bulk_shear(k, mu, rho)?;
         let mat = MaterialKind::SaintVenantKirchhoff.build(c)?;
         let body = MpsBody::<D2> {
             positions: pos,
@@ -143,7 +239,6 @@ impl Case for CollidingRings2d {
             dp,
             velocities,
         };
-        let interval = p.f64("probe_interval");
         let contact = p.flag("contact").then(|| Contact {
             body_of: (0..body.positions.len())
                 .map(|i| (i >= nl) as u32)
@@ -162,17 +257,11 @@ impl Case for CollidingRings2d {
                     Some(c) => s.with_contact(c)?,
                     None => s,
                 };
-                Ok(s.with_probes(
-                    vec![
-                        Probe::particle("left_front", lf),
-                        Probe::particle("right_front", rf),
-                    ],
-                    interval,
-                )?)
+                Ok(s.with_probes(probes(), interval)?)
             },
             p.f64("end_time"),
             options,
-            move |s, _| rings_summary(s, nl, dp, has_contact),
+            move |s, _| speed(rings_summary(s, nl, dp, has_contact)),
         )
     }
 }
@@ -197,16 +286,21 @@ fn rings_summary(s: &dyn Solver<D2>, nl: usize, dp: f64, contact: bool) -> Map<S
             finite_or_null((-min).max(0.0)),
         );
     }
+    // Ring membership by input index (UL reorders its particles and says where they went).
     let v = s.velocities();
-    let mean = |range: std::ops::Range<usize>| {
-        let n = range.len().max(1) as f64;
-        v[range].iter().map(|v| v.x).sum::<f64>() / n
+    let original: Vec<usize> = match s.field("original_index") {
+        Some(Field::Scalar(ix)) => ix.iter().map(|&i| i as usize).collect(),
+        _ => (0..v.len()).collect(),
     };
-    m.insert("left_velocity_final".into(), finite_or_null(mean(0..nl)));
-    m.insert(
-        "right_velocity_final".into(),
-        finite_or_null(mean(nl..v.len())),
-    );
+    let (mut sum, mut cnt) = ([0.0; 2], [0usize; 2]);
+    for (vk, &o) in v.iter().zip(&original) {
+        let r = usize::from(o >= nl);
+        sum[r] += vk.x;
+        cnt[r] += 1;
+    }
+    let mean = |r: usize| sum[r] / cnt[r].max(1) as f64;
+    m.insert("left_velocity_final".into(), finite_or_null(mean(0)));
+    m.insert("right_velocity_final".into(), finite_or_null(mean(1)));
     if let Some(p) = s.momentum() {
         m.insert("momentum_x_final".into(), finite_or_null(p.x));
     }
