@@ -3,6 +3,7 @@
 //! sittings), and `report` turns the stored results into `docs/validation.md` with PNG plots.
 #![deny(missing_docs)]
 
+pub mod frames;
 pub mod mps;
 pub mod plot;
 pub mod store;

@@ -3,8 +3,10 @@
 //! against beam theory, the ring under a small pressure against Lamé, and the disorder
 //! indicator over time for the ring, the slab and the rings.
 
+use crate::frames::{frame_at, p99_value, rings_roughness};
 use crate::plot::{line_plot, Series};
-use crate::store::{fmt_opt, load, pct, rel, run_or_load, status};
+use crate::plot::{particle_frames, Frame};
+use crate::store::{fmt_opt, load, pct, rel, run_or_load, run_or_load_then, status};
 use sph_cases::CaseError;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -105,26 +107,91 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
         )?;
     }
     run_or_load(LAME_ID, "pressurised-ring-2d", "mps", &lame_set(), f)?;
-    run_or_load(RING_ID, "pressurised-ring-2d", "mps", &[], f)?;
+    let fig = |name: &str| {
+        crate::workspace_root()
+            .join("docs")
+            .join("validation")
+            .join(name)
+    };
+    let png = fig("mps_ring_frames.png");
+    run_or_load_then(
+        RING_ID,
+        "pressurised-ring-2d",
+        "mps",
+        &["snapshot_interval=0.05".into()],
+        f,
+        &|c| {
+            let frames: Vec<Frame> = [0.05, 1.0, 5.0]
+                .iter()
+                .filter_map(|&t| frame_at(c, t, "MPS ring"))
+                .collect();
+            let vmax = p99_value(&frames);
+            particle_frames(
+                &png,
+                "Pressurised ring, 62 kPa (von Mises)",
+                &frames,
+                3,
+                vmax,
+                0.1,
+            )?;
+            Ok(Default::default())
+        },
+    )?;
     let mut slabs = vec![SLAB_RES];
     if sel.full {
         slabs.push(62);
     }
     for res in slabs {
-        run_or_load(
+        let png = fig(&format!("mps_slab_r{res}_frames.png"));
+        run_or_load_then(
             &slab_id(res),
             "slab-tension-2d",
             "mps",
-            &[format!("resolution={res}"), "end_time=0.5".into()],
+            &[
+                format!("resolution={res}"),
+                "end_time=0.5".into(),
+                "snapshot_interval=0.05".into(),
+            ],
             f,
+            &|c| {
+                let frames: Vec<Frame> = [0.1, 0.3, 0.5]
+                    .iter()
+                    .filter_map(|&t| frame_at(c, t, "MPS slab"))
+                    .collect();
+                let vmax = p99_value(&frames);
+                let dp = 0.01 / res as f64;
+                particle_frames(&png, "Slab in tension (von Mises)", &frames, 1, vmax, dp)?;
+                Ok(Default::default())
+            },
         )?;
     }
-    run_or_load(
+    let png = fig("mps_rings_frames.png");
+    run_or_load_then(
         RINGS_ID,
         "colliding-rings-2d",
         "mps",
-        &["end_time=0.25".into(), "contact=true".into()],
+        &[
+            "end_time=0.25".into(),
+            "contact=true".into(),
+            "snapshot_interval=0.005".into(),
+        ],
         f,
+        &|c| {
+            let frames: Vec<Frame> = [0.02, 0.03, 0.04, 0.06]
+                .iter()
+                .filter_map(|&t| frame_at(c, t, "MPS"))
+                .collect();
+            let vmax = p99_value(&frames);
+            particle_frames(
+                &png,
+                "MPS colliding rings (von Mises)",
+                &frames,
+                4,
+                vmax,
+                0.001,
+            )?;
+            Ok(rings_roughness(c, 0.001))
+        },
     )?;
     Ok(())
 }
@@ -258,8 +325,8 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         "Beam 0.16 × 0.02 m clamped by 3 fixed columns, E = 0.1 MPa, ν = 0.3, P = 0.005 N on the \
          last column, velocity damping 16 /s to rest. Theory: Euler–Bernoulli plane strain \
          w = P a³/(3E'I) with the load arm a = L − dp/2 (the loaded particles' distance from the \
-         clamp face); Timoshenko adds P a/(κ G H). Target: within 3 % at the paper's dp = 0.002 \
-         (H/dp = 10).\n"
+         clamp face); Timoshenko adds P a/(κ G H). Target: within 3 % at the tip (the paper \
+         uses dp = 0.002, H/dp = 10, and shows the agreement only as a figure).\n"
     )
     .unwrap();
     writeln!(md, "| H/dp | particles | tip w (m) | EB theory | err | Timoshenko | err | residual speed | status |").unwrap();
@@ -308,13 +375,42 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         }
     }
     writeln!(md).unwrap();
+    // Why: the bending stiffness of the discretisation, from an imposed pure-bending field.
     writeln!(
         md,
-        "The error column above is the measurement; the MPS beam's distance to beam theory at \
-         the paper's dp = 0.002 (H/dp = 10), its trend with dp and the r_e sensitivity are read \
-         from it and from the r_e table.\n"
+        "**Why the beam is soft at coarse resolution.** `bending_stiffness_ratio` (validation/src/\
+         mps.rs) imposes the exact plane-strain pure-bending field on the lattice beam and \
+         compares the MPS strain energy Σ V ψ(F) away from the ends with ½ E'I κ²: the WLS \
+         gradient of a particle near the top or bottom surface sees a one-sided neighbourhood, \
+         which under-estimates the fibre strain of the outer layers (the same deficit makes the \
+         dynamic plate's period too long at coarse resolution). `1/ratio − 1` is the tip excess \
+         that deficit alone causes; the rest of the measured excess (against Timoshenko) comes \
+         from the clamp zone and the shear response.\n"
     )
     .unwrap();
+    writeln!(
+        md,
+        "| H/dp | r_e/l0 | E_h/E (bending) | excess it causes | measured excess vs Timoshenko |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|").unwrap();
+    let mut rows: Vec<(u32, f64)> = STATIC_RES.iter().map(|&r| (r, 2.1)).collect();
+    rows.extend([(10, 1.5), (10, 2.5), (10, 3.0)]);
+    for (res, re) in rows {
+        let ratio = bending_stiffness_ratio(res, re)?;
+        let measured = if re == 2.1 {
+            pct(load(&static_id(res)).and_then(|r| r.num("tip_deflection_error_timoshenko")))
+        } else {
+            "–".into()
+        };
+        writeln!(
+            md,
+            "| {res} | {re} | {ratio:.4} | {} | {measured} |",
+            pct(Some(1.0 / ratio - 1.0))
+        )
+        .unwrap();
+    }
+    writeln!(md).unwrap();
     if !curve.is_empty() {
         line_plot(
             &fig_dir.join("mps_static_deflection.png"),
@@ -454,6 +550,78 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         )
         .unwrap();
     }
+    for (name, what) in [
+        ("mps_ring_frames.png", "pressurised ring"),
+        ("mps_slab_r20_frames.png", "slab"),
+        ("mps_slab_r62_frames.png", "slab, H/dp = 62"),
+        ("mps_rings_frames.png", "colliding rings"),
+    ] {
+        if fig_dir.join(name).exists() {
+            writeln!(md, "![{what}]({rel_dir}/{name})\n").unwrap();
+        }
+    }
+    // Oscillations near the collision point: the stress roughness there and on the far sides.
+    if let Some(r) = load(RINGS_ID) {
+        if let Some((t, near, far)) = crate::frames::roughness_series(&r) {
+            // The collision: the snapshot of the largest roughness near the contact.
+            let (k, pn) = near
+                .iter()
+                .enumerate()
+                .filter_map(|(k, v)| v.map(|v| (k, v)))
+                .fold((0, 0.0), |m, (k, v)| if v > m.1 { (k, v) } else { m });
+            let pf = far.get(k).copied().flatten().unwrap_or(f64::NAN);
+            let mut later: Vec<f64> = far.iter().skip(k + 1).flatten().copied().collect();
+            later.sort_by(f64::total_cmp);
+            let background = later.get(later.len() / 2).copied().unwrap_or(f64::NAN);
+            writeln!(
+                md,
+                "**Oscillations near the collision point.** Stress roughness (`frames::roughness`: \
+                 the 99th percentile of |σ_vm,i − mean of its neighbours within 1.6 dp| over a \
+                 region, divided by the run's largest 99th-percentile σ_vm; ≈ 0 for a smooth \
+                 field, ≈ the relative zigzag amplitude for a particle-to-particle oscillation) at \
+                 every snapshot. At the collision (t = {:.3} s) it is {pn:.3} near the contact \
+                 (|x| < 0.01 m, |y| < 0.02 m) against {pf:.3} on the far sides of the rings \
+                 (|x| > 0.07 m); afterwards the far sides settle at a median {background:.3}. So \
+                 ours shows a {} particle-to-particle stress oscillation concentrated at the \
+                 contact ({:.1}× the far sides at that moment), on top of a von Mises field that \
+                 is rough at the particle level everywhere; the particles themselves stay ordered \
+                 (max e above), i.e. no fragmentation, as the paper reports.\n",
+                t.get(k).copied().unwrap_or(f64::NAN),
+                if pn > 1.5 * pf { "clear" } else { "mild" },
+                pn / pf,
+            )
+            .unwrap();
+            let pts = |v: &[Option<f64>]| -> Vec<(f64, f64)> {
+                t.iter()
+                    .zip(v)
+                    .filter_map(|(&t, x)| x.map(|x| (t, x)))
+                    .collect()
+            };
+            line_plot(
+                &fig_dir.join("mps_rings_roughness.png"),
+                "MPS colliding rings: stress roughness",
+                "t (s)",
+                "roughness",
+                &[
+                    Series {
+                        label: "near the collision point".into(),
+                        points: pts(&near),
+                        markers: false,
+                    },
+                    Series {
+                        label: "far sides".into(),
+                        points: pts(&far),
+                        markers: false,
+                    },
+                ],
+            )?;
+            writeln!(
+                md,
+                "![rings roughness]({rel_dir}/mps_rings_roughness.png)\n"
+            )
+            .unwrap();
+        }
+    }
     let mut cmds = String::new();
     for id in [plate_id("mps", 10, 2.1), static_id(10), LAME_ID.to_string()] {
         if let Some(r) = load(&id) {
@@ -464,4 +632,68 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         writeln!(md, "A single run of any row, e.g.:\n\n{cmds}").unwrap();
     }
     Ok(())
+}
+
+/// Effective bending stiffness of the MPS discretisation (why the static cantilever is soft at
+/// coarse resolution): a lattice beam 0.16 × 0.02 m (H/dp = `res`) is given the exact
+/// plane-strain pure-bending field of curvature κ (`u_x = −κ x y`, `u_y = κ (x² + ν' y²)/2`,
+/// `ν' = ν/(1 − ν)`: `σ_xx = −E' κ y`, `σ_yy = 0`), and the MPS strain energy `Σ V ψ(F_i)` of the
+/// particles away from the ends (x ∈ [0.04, 0.12], full WLS support along x) is divided by the
+/// continuum value `½ E' I κ²` per unit length over the same length. A ratio below 1 is a
+/// bending stiffness deficit; `1/ratio − 1` the tip-deflection excess it alone would cause.
+pub fn bending_stiffness_ratio(res: u32, re_over_l0: f64) -> Result<f64, String> {
+    use glam::DVec2;
+    use sph_core::generate::{Aabb, Lattice, ParticleSet};
+    use sph_core::D2;
+    use sph_materials::{ElasticConstants, Material, MaterialKind};
+    let (l, h, e, nu) = (0.16, 0.02, 1e5, 0.3);
+    let dp = h / res as f64;
+    let shape = Aabb::<D2>::new(DVec2::new(0.0, -0.5 * h), DVec2::new(l, 0.5 * h))
+        .map_err(|e| e.to_string())?;
+    let lattice = Lattice::<D2>::new(dp, DVec2::new(0.0, -0.5 * h)).map_err(|e| e.to_string())?;
+    let set = ParticleSet::fill(&lattice, &shape).map_err(|e| e.to_string())?;
+    let c = ElasticConstants::from_youngs(e, nu, 1000.0).map_err(|e| e.to_string())?;
+    let mat = MaterialKind::SaintVenantKirchhoff
+        .build(c)
+        .map_err(|e| e.to_string())?;
+    let reference = set.positions().to_vec();
+    let body = sph_mps::MpsBody::<D2> {
+        positions: reference.clone(),
+        volumes: set.volumes().to_vec(),
+        dp,
+        velocities: Vec::new(),
+    };
+    let params = sph_mps::MpsParams {
+        re_over_l0,
+        ..Default::default()
+    };
+    let mut solver = sph_mps::MpsSolver::new(body, mat, params).map_err(|e| e.to_string())?;
+    let kappa = 1e-4 / h;
+    let nup = nu / (1.0 - nu);
+    let bent: Vec<DVec2> = reference
+        .iter()
+        .map(|x| {
+            *x + DVec2::new(
+                -kappa * x.x * x.y,
+                0.5 * kappa * (x.x * x.x + nup * x.y * x.y),
+            )
+        })
+        .collect();
+    let zero = vec![DVec2::ZERO; bent.len()];
+    solver
+        .set_configuration(bent, zero)
+        .map_err(|e| e.to_string())?;
+    let (xa, xb) = (0.04, 0.12);
+    let energy: f64 = reference
+        .iter()
+        .zip(solver.deformation_gradients())
+        .zip(solver.volumes())
+        .filter(|((x, _), _)| x.x > xa && x.x < xb)
+        .map(|((_, &f), &v)| {
+            v * Material::<D2>::strain_energy_density(solver.material(), f).unwrap_or(f64::NAN)
+        })
+        .sum();
+    let e_plane = e / (1.0 - nu * nu);
+    let continuum = 0.5 * e_plane * h.powi(3) / 12.0 * kappa * kappa * (xb - xa);
+    Ok(energy / continuum)
 }

@@ -89,18 +89,23 @@ pub fn run_or_load(
     set: &[String],
     force: bool,
 ) -> Result<StoredRun, CaseError> {
-    run_or_load_then(id, case, method, set, force, &|_| Ok(()))
+    run_or_load_then(id, case, method, set, force, &|_| Ok(Map::new()))
 }
 
+/// What [`run_or_load_then`] does with a fresh run's results file: figures measured on the
+/// snapshots (stored under `snapshots` in the summary), or an error.
+pub type AfterRun<'a> = dyn Fn(&sph_output::FileContents) -> Result<Map<String, Value>, String> + 'a;
+
 /// [`run_or_load`], and when the run is actually made, `after` reads its results file (the
-/// snapshots) before it is deleted — for pictures, which are written next to the report.
+/// snapshots) before it is deleted — for pictures, which are written next to the report, and
+/// figures measured on the snapshots, which are stored in the summary under `snapshots`.
 pub fn run_or_load_then(
     id: &str,
     case: &str,
     method: &str,
     set: &[String],
     force: bool,
-    after: &dyn Fn(&sph_output::FileContents) -> Result<(), String>,
+    after: &AfterRun<'_>,
 ) -> Result<StoredRun, CaseError> {
     if !force {
         if let Some(r) = load(id) {
@@ -124,11 +129,14 @@ pub fn run_or_load_then(
         ..Default::default()
     };
     eprintln!("running {id}: {case} --method {method} {}", set.join(" "));
-    let (record, summary) = c.run(method, &params, &options)?;
+    let (record, mut summary) = c.run(method, &params, &options)?;
     let mut probes = Map::new();
     if let Some(file) = &record.file {
         let contents = sph_output::read_file(file)?;
-        after(&contents).map_err(CaseError::Config)?;
+        let extra = after(&contents).map_err(CaseError::Config)?;
+        if !extra.is_empty() {
+            summary.insert("snapshots".into(), Value::Object(extra));
+        }
         for (name, p) in contents.probes {
             let stride = p.times.len().div_ceil(2000).max(1);
             let pick = |k: usize| -> Vec<f64> {

@@ -24,6 +24,7 @@ fn main() {
     neighbor_section(&mut md, &criterion);
     tl_section(&mut md, &criterion);
     mps_section(&mut md, &criterion);
+    ul_stepping_section(&mut md, &root);
     std::fs::create_dir_all(out.parent().unwrap()).expect("create docs/");
     let tmp = out.with_extension("md.tmp");
     std::fs::write(&tmp, &md).expect("write docs/performance.md");
@@ -210,6 +211,82 @@ fn mps_section(md: &mut String, criterion: &Path) {
                 }
             }
         }
+    }
+    writeln!(md).unwrap();
+}
+
+fn ul_stepping_section(md: &mut String, root: &Path) {
+    writeln!(
+        md,
+        "## UL: dual-criteria vs single-criterion time stepping (UL paper §5, Tables 2 and 4)\n"
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "UL-ENOG, the three schemes in the same run of `cargo run --release -p sph-benchmarks --bin \
+         ul-stepping` (results in `benchmarks/results/ul-stepping.json`): the 2D plate \
+         (v_f = 0.05) and the simply supported 3D plate (mode (2, 2)) to a fixed end time. Dual: \
+         neighbour list and B rebuilt once per advection step (Δt_ad = 0.2 h/|v|max) with \
+         acoustic sub-steps (Δt_ac = 0.4 h/(c0 + |v|max)) that recompute the kernel data over \
+         that list (the default); dual frozen: the kernel data of the rebuild serve all \
+         sub-steps (METHODS.md; softens long oscillations, see docs/validation.md); single: \
+         the same acoustic step with a rebuild every step. Particle-steps/s counts acoustic \
+         steps (force evaluations). The paper's speed-ups: ≈ 2× (2D, Table 2: 1.7 / 2.1 / 2.6 at \
+         H/dp 10 / 20 / 30) and ≈ 3× (3D, Table 4: 2.7 / 2.7 / 2.8 at H/dp 3 / 5 / 9).\n"
+    )
+    .unwrap();
+    let path = root
+        .join("benchmarks")
+        .join("results")
+        .join("ul-stepping.json");
+    let rows: Vec<serde_json::Value> = match std::fs::read_to_string(&path)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+    {
+        Some(r) => r,
+        None => {
+            writeln!(md, "Not run yet.\n").unwrap();
+            return;
+        }
+    };
+    writeln!(
+        md,
+        "| scene | particles | end time | threads | dual: s (sub-steps, rebuilds) | dual, frozen kernel data: s | single: s (steps) | speed-up single/dual | single/dual frozen | particle-steps/s dual / frozen / single |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|").unwrap();
+    for r in rows {
+        let num = |a: &str, b: &str| r[a][b].as_f64().unwrap_or(f64::NAN);
+        let end = r["set"]
+            .as_array()
+            .and_then(|s| {
+                s.iter()
+                    .filter_map(|v| v.as_str())
+                    .find_map(|v| v.strip_prefix("end_time="))
+                    .map(String::from)
+            })
+            .unwrap_or_default();
+        let (td, tf, ts) = (
+            num("dual", "solver_seconds"),
+            num("dual_frozen", "solver_seconds"),
+            num("single", "solver_seconds"),
+        );
+        writeln!(
+            md,
+            "| {} | {} | {end} | {} | {td:.1} ({}, {}) | {tf:.1} | {ts:.1} ({}) | {:.2}× | {:.2}× | {:.2e} / {:.2e} / {:.2e} |",
+            r["scene"].as_str().unwrap_or("?"),
+            num("dual", "particles"),
+            r["threads"],
+            num("dual", "acoustic_steps"),
+            num("dual", "neighbour_rebuilds"),
+            num("single", "acoustic_steps"),
+            ts / td,
+            ts / tf,
+            num("dual", "particle_steps_per_second"),
+            num("dual_frozen", "particle_steps_per_second"),
+            num("single", "particle_steps_per_second"),
+        )
+        .unwrap();
     }
     writeln!(md).unwrap();
 }

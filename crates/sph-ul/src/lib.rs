@@ -16,8 +16,10 @@
 //! Pressure and continuity use the low-dissipation Riemann solver (eq 11–12) with the equation of
 //! state `p = c0²(ρ − ρ0)` (eq 4), see [`riemann`]. Time integration is the position-Verlet scheme
 //! (eq 23–25) inside the dual-criteria time stepping of §5 (eq 21–22), see [`stepping`] and
-//! [`solver`]: neighbour lists, kernel data and the correction matrix are rebuilt only at
-//! advection steps and frozen over the acoustic sub-steps; particles are reordered in cell order
+//! [`solver`]: neighbour lists and the correction matrix are rebuilt only at advection steps and
+//! frozen over the acoustic sub-steps, the kernel data over that list are refreshed every
+//! sub-step (`UlParams::refresh_kernel_data`; METHODS.md freezes them too, which softens a long
+//! oscillation secularly); particles are reordered in cell order
 //! at every rebuild ([`UlSolver::original_index`] maps back to the input order).
 //!
 //! Separate bodies: this crate has no inter-body contact. Colliding bodies of one material (the

@@ -18,7 +18,9 @@
 
 use crate::analysis::{downward_crossings, extremes, mean_period};
 use crate::cases::mps_common::{mps_params, point_probe, run_mps};
-use crate::cases::oscillating_plate_2d::{mode_shape, plate_particles, thin_plate_period};
+use crate::cases::oscillating_plate_2d::{
+    first_mode_velocities, plate_particles, thin_plate_period,
+};
 use crate::cases::tl_common::{meta, schedule, shear_of, tl_params, TL_FIELDS};
 use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
@@ -116,18 +118,7 @@ impl Case for CantileverPlate2d {
         let layers = p.int("base_layers");
         let (set, dp) = plate_particles(l, h, p.int("resolution"), p.f64("base_length"), layers)?;
         let vl = p.f64("vl");
-        let fl = mode_shape(l, l);
-        let velocities: Vec<DVec2> = set
-            .positions()
-            .iter()
-            .map(|x| {
-                if x.x > 0.0 {
-                    DVec2::new(0.0, vl * c0 * mode_shape(x.x, l) / fl)
-                } else {
-                    DVec2::ZERO
-                }
-            })
-            .collect();
+        let velocities = first_mode_velocities(set.positions(), l, vl * c0);
         let base = set.tagged("base")?;
         let positions = set.positions().to_vec();
         let volumes = set.volumes().to_vec();

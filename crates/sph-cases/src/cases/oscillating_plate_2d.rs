@@ -139,19 +139,7 @@ impl Case for OscillatingPlate2d {
             p.f64("base_length"),
             p.int("base_layers"),
         )?;
-        let vf = p.f64("vf");
-        let fl = mode_shape(l, l);
-        let velocities: Vec<DVec2> = set
-            .positions()
-            .iter()
-            .map(|x| {
-                if x.x > 0.0 {
-                    DVec2::new(0.0, vf * c0 * mode_shape(x.x, l) / fl)
-                } else {
-                    DVec2::ZERO
-                }
-            })
-            .collect();
+        let velocities = first_mode_velocities(set.positions(), l, p.f64("vf") * c0);
         let base = set.tagged("base")?;
         let probe_interval = p.f64("probe_interval");
         let period_theory = thin_plate_period(l, h, e, nu, rho);
@@ -245,6 +233,22 @@ fn plate_summary(s: &dyn Solver<D2>, period_theory: f64) -> Map<String, Json> {
     }
     m.insert("period_theory".into(), json!(period_theory));
     m
+}
+
+/// Initial velocity of the first cantilever mode (TL eq 34, MPS eq 13): `v_y = v_tip f(x)/f(L)`
+/// on the free part (x > 0), zero in the base.
+pub fn first_mode_velocities(positions: &[DVec2], length: f64, v_tip: f64) -> Vec<DVec2> {
+    let fl = mode_shape(length, length);
+    positions
+        .iter()
+        .map(|x| {
+            if x.x > 0.0 {
+                DVec2::new(0.0, v_tip * mode_shape(x.x, length) / fl)
+            } else {
+                DVec2::ZERO
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -47,6 +47,25 @@ pub fn ul_params() -> Vec<Param> {
             "OAS artificial-stress ε",
         ),
         Param::int("as_n", 4, Range::Closed(1.0, 16.0), "OAS exponent n"),
+        Param::float(
+            "ul_cfl_acoustic",
+            0.4,
+            Range::Positive,
+            "CFL_ac of eq 22: Δt_ac = CFL_ac h/(c0 + |v|max)",
+        ),
+        Param::float(
+            "ul_cfl_advection",
+            0.2,
+            Range::Positive,
+            "CFL_ad of eq 21: Δt_ad = CFL_ad h/|v|max",
+        ),
+        Param::bool(
+            "refresh_kernel_data",
+            true,
+            "recompute e_ij, r_ij, W, W′ from the current positions in every acoustic sub-step \
+             (the list and B stay those of the rebuild); false = METHODS.md's frozen data, which \
+             soften the plate secularly (period +7 % in 3 s)",
+        ),
         Param::bool(
             "allow_fracture",
             false,
@@ -106,6 +125,9 @@ pub fn ul_numerics(p: &Params) -> UlParams {
             _ => RiemannScheme::SphinxsysTests,
         },
         allow_isolated: p.flag("allow_fracture"),
+        cfl_acoustic: p.f64("ul_cfl_acoustic"),
+        refresh_kernel_data: p.flag("refresh_kernel_data"),
+        cfl_advection: p.f64("ul_cfl_advection"),
         ..UlParams::default()
     }
 }
