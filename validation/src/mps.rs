@@ -534,6 +534,28 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         });
     }
     writeln!(md).unwrap();
+    let max_e = |id: &str| load(id).and_then(|r| r.num("max_disorder"));
+    writeln!(
+        md,
+        "**What the pictures show.** The colliding rings stay ordered (max e {}). The slab and the \
+         pressurised ring do not: the slab clumps column-wise from the first tenth of a second \
+         (stretch ≈ 1.2) and is torn into particle columns by t = 0.5 s (max e {}); the ring at \
+         62 kPa (hoop stretch ≈ 1.8 at the bore) shows particle gaps throughout by t = 1 s and \
+         pairs up along the bore by t = 5 s (max e {}). The paper reports neither. The cause is \
+         the discretisation, not the load: the WLS deformation gradient of eq 4–5 has the \
+         alternating-column displacement in its null space — `u_x = ±δ` per column leaves F of \
+         every particle with a full support unchanged to round-off (3.6e-16 against 3.1e-2 for \
+         a smooth field of the same size; test `wls_gradient_has_the_alternating_column_zero_\
+         energy_mode` in crates/sph-mps/tests/properties.rs) — so the energy U = Σ V ψ(F) does \
+         not resist it in the bulk, and under large tension nothing stops it from growing (the \
+         paper itself ascribes the rings' oscillations to zero-energy modes). A stabilisation \
+         that keeps the model Hamiltonian (a penalty potential on |F_i X_ij − x_ij|) is the \
+         remedy; it is not part of the paper's model and is not implemented.\n",
+        fmt_opt(max_e(RINGS_ID), 3),
+        fmt_opt(max_e(&slab_id(SLAB_RES)), 2),
+        fmt_opt(max_e(RING_ID), 2),
+    )
+    .unwrap();
     for s in &dis {
         let name = s.label.replace([' ', ','], "_").replace('=', "");
         line_plot(

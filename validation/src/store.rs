@@ -94,7 +94,8 @@ pub fn run_or_load(
 
 /// What [`run_or_load_then`] does with a fresh run's results file: figures measured on the
 /// snapshots (stored under `snapshots` in the summary), or an error.
-pub type AfterRun<'a> = dyn Fn(&sph_output::FileContents) -> Result<Map<String, Value>, String> + 'a;
+pub type AfterRun<'a> =
+    dyn Fn(&sph_output::FileContents) -> Result<Map<String, Value>, String> + 'a;
 
 /// [`run_or_load`], and when the run is actually made, `after` reads its results file (the
 /// snapshots) before it is deleted — for pictures, which are written next to the report, and

@@ -499,3 +499,48 @@ fn damped_cantilever_under_gravity_settles_with_fixed_particles_in_place() {
     assert!(ke < 1e-6 * peak, "{ke:e} vs {peak:e}");
     assert!(tip.y < 0.0);
 }
+
+// ------------------------------------------------------------ 7. zero-energy mode
+
+/// The WLS deformation gradient (eq 4–5) has the alternating-column mode in its null space:
+/// `u_x = δ (−1)^column` leaves `F_i` of every particle whose support is symmetric in x
+/// unchanged (its neighbours in odd columns move by the same −2δ on both sides, those in even
+/// columns not at all, and `Σ_j w X_ij` over the odd columns of a symmetric support vanishes).
+/// The mode costs no energy in the bulk — only the surface rows resist it — which is how a
+/// stretched body (the slab, the pressurised ring in docs/validation.md) can clump
+/// column-wise; a smooth displacement of the same size does change F.
+#[test]
+fn wls_gradient_has_the_alternating_column_zero_energy_mode() {
+    let n = [16, 10, 1];
+    let mut s = solver::<D2, _>(n, svk());
+    let x0 = s.reference_positions().to_vec();
+    let delta = 0.05 * DP;
+    let column = |x: &glam::DVec2| (x.x / DP).floor() as i64;
+    let row = |x: &glam::DVec2| (x.y / DP).floor() as i64;
+    // Full support: at least r_e = 2.1 dp (3 columns or rows) from every side. Near the top
+    // and bottom the support is one-sided in y and the mode shears F (that is where it is
+    // resisted).
+    let interior = |x: &glam::DVec2| {
+        column(x) >= 3 && column(x) < n[0] as i64 - 3 && row(x) >= 3 && row(x) < n[1] as i64 - 3
+    };
+    // Largest interior |F − I| after displacing every particle by u_x(x).
+    let mut interior_dev = |u: &dyn Fn(&glam::DVec2) -> f64| {
+        let x: Vec<glam::DVec2> = x0
+            .iter()
+            .map(|x| *x + glam::DVec2::new(u(x), 0.0))
+            .collect();
+        s.set_configuration(x, vec![glam::DVec2::ZERO; x0.len()])
+            .unwrap();
+        x0.iter()
+            .zip(s.deformation_gradients())
+            .filter(|(x, _)| interior(x))
+            .map(|(_, f)| D2::frobenius(*f - glam::DMat2::IDENTITY))
+            .fold(0.0, f64::max)
+    };
+    let zig_dev = interior_dev(&|x| delta * if column(x) % 2 == 0 { 1.0 } else { -1.0 });
+    // A smooth field of the same amplitude: u_x = δ sin(π x / (4 dp)).
+    let smooth_dev = interior_dev(&|x| delta * (std::f64::consts::PI * x.x / (4.0 * DP)).sin());
+    println!("interior |F − I|: alternating columns {zig_dev:.3e}, smooth {smooth_dev:.3e}");
+    assert!(zig_dev < 1e-12, "{zig_dev}");
+    assert!(smooth_dev > 1e-3, "{smooth_dev}");
+}
