@@ -22,14 +22,15 @@
 //! oscillation secularly); particles are reordered in cell order
 //! at every rebuild ([`UlSolver::original_index`] maps back to the input order).
 //!
-//! Separate bodies: this crate has no inter-body contact. Colliding bodies of one material (the
-//! colliding rings and balls of the paper) are built as **one** UL body whose parts meet through
-//! the ordinary neighbour search, as Gray et al. did; momentum is then conserved by the same
-//! pairwise antisymmetry as inside a body.
+//! Separate bodies: [`UlSolver::with_contact`] splits the particles into bodies that keep their
+//! own neighbours and meet through METHODS.md's contact pressure (repulsive, antisymmetric per
+//! pair, so momentum is conserved). Without it every particle belongs to one body, and colliding
+//! parts of one material meet through the ordinary neighbour search, as Gray et al. did.
 //!
 //! Loops are gathers over each particle's own neighbours, parallel with rayon, so results do not
-//! depend on the thread schedule. Acoustic sub-steps allocate nothing; rebuilds reuse or replace
-//! their own buffers.
+//! depend on the thread schedule. Acoustic sub-steps allocate only small scratch (the row
+//! slices of the kernel-data refresh, the contact buffer); rebuilds reuse or replace their own
+//! buffers.
 #![deny(missing_docs)]
 
 pub mod artificial_stress;

@@ -268,6 +268,14 @@ pub struct UlSolver<D: Dim> {
     correction: Vec<D::Matrix>,
     guarded: usize,
     rebuild_positions: Vec<D::Vector>,
+    // Contact between bodies (empty `body` = one body): body id per particle, the inter-body
+    // pairs of the last rebuild with their kernel data (current positions), W(dp), and the
+    // contact densities.
+    body: Vec<u32>,
+    contact_list: NeighborList,
+    contact_pairs: Vec<PairKernel<D>>,
+    contact_w_dp: f64,
+    contact_density: Vec<f64>,
     // Particles without neighbours: at the last rebuild, the most at any rebuild, first time.
     isolated: usize,
     isolated_max: usize,
@@ -404,6 +412,11 @@ impl<D: Dim> UlSolver<D> {
             correction: vec![D::identity(); n],
             guarded: 0,
             rebuild_positions: Vec::new(),
+            body: Vec::new(),
+            contact_list: NeighborList::default(),
+            contact_pairs: Vec::new(),
+            contact_w_dp: 0.0,
+            contact_density: Vec::new(),
             isolated: 0,
             isolated_max: 0,
             first_isolation: None,
@@ -461,6 +474,39 @@ impl<D: Dim> UlSolver<D> {
         self
     }
 
+    /// Makes the particles separate bodies (`body_of[i]` for input particle `i`) that meet
+    /// through contact (METHODS.md, SPHinXsys): each body keeps its own neighbours (pressure,
+    /// shear, continuity and `B` see only the own body), and particles of different bodies
+    /// closer than the kernel support push each other apart with the contact pressure
+    /// `p_c = c0² ρ_c`, `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,
+    /// `a_i −= (2/m_i) Σ_j ½(p_c,i + p_c,j) V_i V_j W′_ij e_ij` — antisymmetric per pair, so
+    /// momentum is conserved; repulsive only (bodies separate freely). The contact energy is
+    /// not part of [`UlSolver::energy`].
+    ///
+    /// # Errors
+    /// `body_of` not one entry per particle.
+    pub fn with_contact(mut self, body_of: Vec<u32>) -> Result<Self, Error> {
+        let n = self.len();
+        if body_of.len() != n {
+            return Err(Error::invalid(
+                "body_of",
+                body_of.len(),
+                &format!("one body id per particle ({n})"),
+            ));
+        }
+        self.body = self
+            .original_index
+            .iter()
+            .map(|&o| body_of[o as usize])
+            .collect();
+        let dp = self.kernel.h() / self.params.h_over_dp;
+        self.contact_w_dp = self.kernel.w(dp);
+        self.contact_density = vec![0.0; n];
+        self.rebuild()?;
+        self.refresh_rates();
+        Ok(self)
+    }
+
     /// Attaches probes (indices in the original order), recorded at `t = 0` and then every
     /// `interval` of simulated time (0 = every step).
     pub fn with_probes(mut self, mut probes: Vec<Probe<D>>, interval: f64) -> Result<Self, Error> {
@@ -496,6 +542,9 @@ impl<D: Dim> UlSolver<D> {
             }
         }
         self.list = grid.neighbor_list(&self.positions, cutoff)?;
+        if !self.body.is_empty() {
+            self.split_contact_pairs()?;
+        }
         let n = self.len();
         if let Some(i) = (0..n).find(|&i| self.list.count(i) == 0) {
             if !self.params.allow_isolated {
@@ -563,6 +612,80 @@ impl<D: Dim> UlSolver<D> {
         Ok(())
     }
 
+    /// Splits the neighbour list into the own-body list (`self.list`) and the inter-body
+    /// contact list.
+    fn split_contact_pairs(&mut self) -> Result<(), Error> {
+        let n = self.len();
+        let (mut own_off, mut own_ix) = (Vec::with_capacity(n + 1), Vec::new());
+        let (mut con_off, mut con_ix) = (Vec::with_capacity(n + 1), Vec::new());
+        own_off.push(0);
+        con_off.push(0);
+        for i in 0..n {
+            for &j in self.list.neighbors(i) {
+                if self.body[j as usize] == self.body[i] {
+                    own_ix.push(j);
+                } else {
+                    con_ix.push(j);
+                }
+            }
+            own_off.push(own_ix.len());
+            con_off.push(con_ix.len());
+        }
+        self.list = NeighborList::from_parts(own_off, own_ix)?;
+        self.contact_list = NeighborList::from_parts(con_off, con_ix)?;
+        Ok(())
+    }
+
+    /// Adds the contact accelerations (see [`UlSolver::with_contact`]) to `out`, with the
+    /// kernel data of the inter-body pairs at the current positions.
+    fn add_contact_forces(&mut self, out: &mut [D::Vector]) {
+        if self.contact_list.num_pairs() == 0 {
+            return;
+        }
+        let zero = PairKernel::<D> {
+            e: D::zero(),
+            r: 0.0,
+            w: 0.0,
+            dw: 0.0,
+        };
+        self.contact_pairs
+            .resize(self.contact_list.num_pairs(), zero);
+        fill_pair_kernels(
+            &self.positions,
+            &self.positions,
+            &self.contact_list,
+            &self.kernel,
+            &mut self.contact_pairs,
+        );
+        let (list, pairs, m, w_dp) = (
+            &self.contact_list,
+            &self.contact_pairs,
+            &self.masses,
+            self.contact_w_dp,
+        );
+        gather(&mut self.contact_density, |i, rho_c| {
+            *rho_c = pairs[list.range(i)]
+                .iter()
+                .zip(list.neighbors(i))
+                .map(|(pk, &j)| (pk.w - w_dp).max(0.0) * m[j as usize])
+                .sum();
+        });
+        let c2 = self.c0 * self.c0;
+        let (rho, rho_c) = (&self.densities, &self.contact_density);
+        let mut add = vec![D::zero(); self.len()];
+        gather(&mut add, |i, a| {
+            let v_i = m[i] / rho[i];
+            let mut acc = D::zero();
+            for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
+                let j = j as usize;
+                let p_star = 0.5 * c2 * (rho_c[i] + rho_c[j]);
+                acc += pk.e * (-2.0 * p_star * v_i * (m[j] / rho[j]) * pk.dw / m[i]);
+            }
+            *a = acc;
+        });
+        out.iter_mut().zip(&add).for_each(|(o, &a)| *o += a);
+    }
+
     /// Applies `perm[new] = old` to every per-particle field and relabels the scene.
     fn permute(&mut self, perm: &[u32]) {
         fn p<T: Clone>(perm: &[u32], v: &mut Vec<T>) {
@@ -579,6 +702,7 @@ impl<D: Dim> UlSolver<D> {
         p(perm, &mut self.rates);
         p(perm, &mut self.initial_positions);
         p(perm, &mut self.original_index);
+        p(perm, &mut self.body);
         p(perm, &mut self.free);
         p(perm, &mut self.accelerations);
         let inv = invert_permutation(perm);
@@ -717,6 +841,9 @@ impl<D: Dim> UlSolver<D> {
                 },
                 &mut out,
             ),
+        }
+        if !self.body.is_empty() {
+            self.add_contact_forces(&mut out);
         }
         self.accelerations = out;
     }

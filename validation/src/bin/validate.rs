@@ -46,7 +46,7 @@ enum Command {
     },
     /// UL validation runs (UL paper §6), then the report.
     Ul {
-        /// Include the 3D plate at H/dp = 5 (200,000 particles).
+        /// Include the 3D plate at H/dp = 5, mode (2, 2) (200,000 particles).
         #[arg(long)]
         fine: bool,
         /// Re-run stored runs.

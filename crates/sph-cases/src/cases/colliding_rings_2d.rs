@@ -12,7 +12,7 @@
 //! | material | SVK, K = 3.25e6, μ = 7.15e5, ρ = 1000 | linear (UL), E = 1e7, ν = 0.4, ρ = 1200 |
 //! | speed `v0` of each ring | 0.2 m/s (`v0_unit = m/s`) | 0.06 c0 (`v0_unit = c0`; 0.07, 0.08 in Fig. 13–14) |
 //! | gap between the rings | 0.005 | 0.01 (centres 0.09 apart) |
-//! | interaction | penalty contact (below) | one UL body: the kernel couples the rings |
+//! | interaction | penalty contact (below) | two UL bodies with METHODS.md's contact pressure |
 //! | end time | 0.1 s | 0.02 s |
 //!
 //! **MPS contact.** Both rings are one MPS body, and the Hamiltonian MPS model's neighbours and
@@ -25,11 +25,13 @@
 //! energy conserved). `contact = false` reproduces the pass-through. `gap` must be at least
 //! `r_e`, or the reference neighbour search would glue the rings together.
 //!
-//! **UL.** The two rings are one body, as in Gray et al.: once closer than the kernel support
-//! they interact through pressure and shear like any two particles of the body (and stick in
-//! tension — the test of tensile instability). `allow_fracture` is on: particles that lose every
-//! neighbour (numerical fracture, expected for SPH-OG) fly on and are counted (`isolated_max`,
-//! `fracture`); `contact` must stay off.
+//! **UL.** With `contact = true` (default) the rings are two bodies of one UL solver
+//! (`UlSolver::with_contact`): each keeps its own neighbours and they push each other apart
+//! with METHODS.md's contact pressure, so they rebound as in the paper's Fig. 12–14.
+//! `contact = false` makes them one body, as Gray et al.: once closer than the kernel support
+//! they interact like any two particles of the body and stick in tension. `allow_fracture` is
+//! on: particles that lose every neighbour of their own body (numerical fracture, expected for
+//! SPH-OG) fly on and are counted (`isolated_max`, `fracture`).
 //!
 //! Summary: the separation of the rings' facing outer particles over time (negative = the rings
 //! overlap), its minimum, the mean x-velocity of each ring at the end, the total x-momentum, and
@@ -90,7 +92,9 @@ impl Case for CollidingRings2d {
             Param::bool(
                 "contact",
                 true,
-                "penalty contact between the rings (sph_mps::contact)",
+                "contact between the rings (MPS: sph_mps::contact penalty; UL: two bodies with \
+                 the contact pressure of UlSolver::with_contact); false: MPS rings pass through \
+                 each other, UL rings are one body",
             ),
             Param::float(
                 "contact_stiffness",
@@ -121,7 +125,6 @@ impl Case for CollidingRings2d {
                 ("v0_unit", "c0".into()),
                 ("gap", "0.01".into()),
                 ("end_time", "0.02".into()),
-                ("contact", "false".into()),
                 ("allow_fracture", "true".into()),
             ] {
                 p.set_text(key, &value).expect("valid UL default");
@@ -144,15 +147,6 @@ impl Case for CollidingRings2d {
             p.f64("dp"),
             p.f64("gap"),
         );
-        if ul && p.flag("contact") {
-            return Err(CaseError::InvalidValue {
-                key: "contact".into(),
-                value: "true".into(),
-                allowed:
-                    "false with UL methods (the rings are one UL body; the kernel couples them)"
-                        .into(),
-            });
-        }
         let re = p.f64("re_over_l0") * dp;
         if !ul && gap < re {
             return Err(CaseError::InvalidValue {
@@ -209,6 +203,8 @@ impl Case for CollidingRings2d {
             m.insert("v0_over_c0".into(), json!(v0 / c0));
             m
         };
+        let contact = p.flag("contact");
+        let body_of: Vec<u32> = (0..set.len()).map(|i| u32::from(i >= nl)).collect();
         if ul {
             let constants = ElasticConstants::from_bulk_shear(k, mu, rho)?;
             let body = sph_ul::UlBody::<D2> {
@@ -225,10 +221,13 @@ impl Case for CollidingRings2d {
                 p,
                 body,
                 constants,
-                |s| Ok(s.with_probes(probes(), interval)?),
+                |s| {
+                    let s = if contact { s.with_contact(body_of)? } else { s };
+                    Ok(s.with_probes(probes(), interval)?)
+                },
                 p.f64("end_time"),
                 options,
-                move |s, _| speed(rings_summary(s, nl, dp, false)),
+                move |s, _| speed(rings_summary(s, nl, dp, contact)),
             );
         }
         let c = ElasticConstants::from_bulk_shear(k, mu, rho)?;
@@ -239,10 +238,8 @@ impl Case for CollidingRings2d {
             dp,
             velocities,
         };
-        let contact = p.flag("contact").then(|| Contact {
-            body_of: (0..body.positions.len())
-                .map(|i| (i >= nl) as u32)
-                .collect(),
+        let contact = contact.then(|| Contact {
+            body_of,
             distance_over_dp: 1.0,
             stiffness_factor: p.f64("contact_stiffness"),
         });
