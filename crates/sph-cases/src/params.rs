@@ -267,6 +267,12 @@ impl Params {
         Ok(extras)
     }
 
+    /// The current value of `key` (the case's default until something sets it), if the key
+    /// exists.
+    pub fn value(&self, key: &str) -> Option<&Value> {
+        self.values.get(key)
+    }
+
     /// A real parameter (integers are widened).
     pub fn f64(&self, key: &str) -> f64 {
         match &self.values[key] {

@@ -110,18 +110,23 @@ fn list(verbose: bool) {
                 Value::Text(s) => format!("\"{s}\""),
                 v => v.to_string(),
             };
+            // The case's defaults (a case may set some beyond its keys' generic defaults).
             let base = case.params();
+            let value = |p: &sph_cases::params::Params, key: &str| p.value(key).map(show);
             for p in base.specs() {
-                println!("    {:<20} = {:<14} {}", p.key, show(&p.default), p.help);
+                let v = value(&base, p.key).unwrap_or_default();
+                println!("    {:<20} = {:<14} {}", p.key, v, p.help);
             }
             // Defaults that another method's paper sets differently.
             for m in info.methods.iter().skip(1) {
-                for (a, b) in base.specs().iter().zip(case.params_for(m).specs()) {
-                    if a.default != b.default {
+                let other = case.params_for(m);
+                for p in base.specs() {
+                    let b = value(&other, p.key);
+                    if value(&base, p.key) != b {
                         println!(
                             "    {:<20} = {:<14} with --method {m}",
-                            b.key,
-                            show(&b.default)
+                            p.key,
+                            b.unwrap_or_default()
                         );
                     }
                 }
