@@ -60,6 +60,12 @@ pub fn ul_params() -> Vec<Param> {
             "CFL_ad of eq 21: Δt_ad = CFL_ad h/|v|max",
         ),
         Param::bool(
+            "ul_corrected_gradient",
+            false,
+            "OG/OAS: velocity gradient with the correction matrix B (eq 26); false: eq 14 as \
+             printed (energy-consistent)",
+        ),
+        Param::bool(
             "refresh_kernel_data",
             true,
             "recompute e_ij, r_ij, W, W′ from the current positions in every acoustic sub-step \
@@ -127,6 +133,7 @@ pub fn ul_numerics(p: &Params) -> UlParams {
         allow_isolated: p.flag("allow_fracture"),
         cfl_acoustic: p.f64("ul_cfl_acoustic"),
         refresh_kernel_data: p.flag("refresh_kernel_data"),
+        corrected_velocity_gradient: p.flag("ul_corrected_gradient"),
         cfl_advection: p.f64("ul_cfl_advection"),
         ..UlParams::default()
     }
