@@ -355,7 +355,9 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
          Dual-criteria stepping with the kernel data refreshed every acoustic sub-step (the \
          default); the last row freezes them over the advection step as METHODS.md describes, \
          which softens the plate secularly (the paper ran its long run with single stepping, \
-         which avoids that too).\n"
+         which avoids that too). Energy change: from the solver's energies, whose shear part \
+         for ENOG is estimated from the output stress (eq 6–8 integrated with B) — not the \
+         energy ENOG's force derives from; judge dissipation by the amplitudes.\n"
     )
     .unwrap();
     writeln!(
