@@ -226,6 +226,16 @@ fn period(r: &Option<StoredRun>) -> Option<f64> {
     r.as_ref().and_then(|r| r.num("period"))
 }
 
+/// Particle-steps per second of a stored run, in millions (`2.41e6`), or `–`.
+fn rate(r: &Option<StoredRun>) -> String {
+    fmt_opt(
+        r.as_ref()
+            .and_then(|r| r.num("particle_steps_per_second"))
+            .map(|x| x / 1e6),
+        2,
+    ) + "e6"
+}
+
 fn state(r: &Option<StoredRun>) -> String {
     match r {
         None => "not run".into(),
@@ -313,12 +323,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
             t.map_or(state(&r), |t| format!("{t:.4}")),
             pct(rel(t, Some(0.279))),
             pct(rel(t, r.as_ref().and_then(|r| r.num("period_theory")))),
-            fmt_opt(
-                r.as_ref()
-                    .and_then(|r| r.num("particle_steps_per_second"))
-                    .map(|x| x / 1e6),
-                2
-            ) + "e6",
+            rate(&r),
         )
         .unwrap();
         if let Some(r) = r {
