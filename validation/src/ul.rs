@@ -487,12 +487,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
                 t.map_or(state(&r), |t| format!("{t:.4}")),
                 pct(rel(t, Some(paper[k]))),
                 pct(rel(t, Some(theory))),
-                fmt_opt(
-                    r.as_ref()
-                        .and_then(|r| r.num("particle_steps_per_second"))
-                        .map(|x| x / 1e6),
-                    2
-                ) + "e6",
+                rate(&r),
             )
             .unwrap();
         }
