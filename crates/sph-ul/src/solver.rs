@@ -827,7 +827,9 @@ impl<D: Dim> UlSolver<D> {
                         tau: &self.stress,
                         r: &self.artificial,
                         masses: &self.masses,
-                        positions: &self.positions,
+                        // With refreshed kernel data `W` is already the current one.
+                        positions: (!self.params.refresh_kernel_data)
+                            .then_some(&self.positions[..]),
                         kernel: &self.kernel,
                         inv_w_dp,
                         n,
@@ -1202,12 +1204,14 @@ impl<D: Dim> ShearForce<D> for NestedShear<'_, D> {
 /// rebuild: `f_ij^n` (n = 4) is a stiff short-range repulsion, and with the distance frozen
 /// over an advection step it lags the motion and pumps energy in — measured: the plate
 /// (H/dp = 10, v_f = 0.05) blew up at t = 0.077 s and the rings at 0.07 c0 at t = 0.006 s with
-/// frozen `f`, both run through with single stepping or with the current `f`.
+/// frozen `f`, both run through with single stepping or with the current `f`. With
+/// [`UlParams::refresh_kernel_data`] the pair data are current already.
 struct ArtificialShear<'a, D: Dim> {
     tau: &'a [D::Matrix],
     r: &'a [D::Matrix],
     masses: &'a [f64],
-    positions: &'a [D::Vector],
+    /// Current positions when the kernel data are frozen (`W` recomputed here), else `None`.
+    positions: Option<&'a [D::Vector]>,
     kernel: &'a WendlandC2<D>,
     inv_w_dp: f64,
     n: u32,
@@ -1216,11 +1220,12 @@ struct ArtificialShear<'a, D: Dim> {
 impl<D: Dim> ShearForce<D> for ArtificialShear<'_, D> {
     #[inline(always)]
     fn pair(&self, i: usize, j: usize, pk: &PairKernel<D>, vj_rho_i: f64) -> D::Vector {
-        let current = PairKernel::<D> {
-            w: self
-                .kernel
-                .w(D::norm(self.positions[i] - self.positions[j])),
-            ..*pk
+        let current = match self.positions {
+            Some(x) => PairKernel::<D> {
+                w: self.kernel.w(D::norm(x[i] - x[j])),
+                ..*pk
+            },
+            None => *pk,
         };
         shear_pair_acceleration::<D>(self.tau[i], self.tau[j], pk.e, pk.dw, vj_rho_i)
             + artificial_pair_acceleration::<D>(
