@@ -146,7 +146,9 @@ pub struct UlParams {
     /// (the data of the rebuild serve the whole advection step), which makes the 2D plate
     /// (ENOG, H/dp = 10, v_f = 0.05) soften secularly: its period grows 0.278 → 0.298 s within
     /// 3 s and 0.277 → 0.366 s within 10 s, the amplitude growing with it; with the refresh the
-    /// period stays 0.2749–0.2756 s over 3 s for ≈ 8 % more time per sub-step.
+    /// period stays 0.2749–0.2756 s over 3 s (0.2754 → 0.2741 s over 10 s). Cost, measured by
+    /// `ul-stepping` (docs/performance.md): 1.4–1.6× the time per sub-step of the frozen data;
+    /// dual stepping stays 2.2–2.7× faster than single.
     pub refresh_kernel_data: bool,
     /// Guard threshold of the correction matrix (see `sph_core::correction`).
     pub correction_min_eigenvalue: f64,
