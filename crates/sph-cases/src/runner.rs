@@ -264,6 +264,15 @@ pub fn drive<D: Dim>(
                 .collect();
             w.write_probe(&p.name, &p.times, &pos, &vel)?;
         }
+        for s in solver.series() {
+            let columns: Vec<(&str, &[f64])> = s
+                .columns
+                .iter()
+                .zip(&s.values)
+                .map(|(c, v)| (c.as_str(), v.as_slice()))
+                .collect();
+            w.write_series(&s.name, &s.time, &columns)?;
+        }
         w.write_summary(&summary)?;
         record.file = Some(w.finish()?);
     }

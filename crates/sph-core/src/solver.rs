@@ -2,7 +2,7 @@
 
 use crate::dim::Dim;
 use crate::error::Error;
-use crate::scene::Probe;
+use crate::scene::{Probe, Series};
 
 /// A named per-particle output field, computed on demand (only when written).
 #[derive(Clone, Debug)]
@@ -69,6 +69,11 @@ pub trait Solver<D: Dim>: Send {
 
     /// The probes attached by the scene, with what they recorded.
     fn probes(&self) -> &[Probe<D>];
+
+    /// Other recorded time series (tool and grip reactions, ...); none by default.
+    fn series(&self) -> Vec<Series> {
+        Vec::new()
+    }
 
     /// Kinetic energy `Σ ½ m v²` and strain energy `Σ V⁰ ψ`, for methods with a strain energy.
     fn energies(&self) -> Option<(f64, f64)> {

@@ -10,6 +10,7 @@
 //! | `/meta` | one attribute per key of the run's metadata (see [JSON values](#json-values)) plus `json`, the whole map as a JSON string |
 //! | `/snapshots/<n>` | one group per snapshot, `n` = `000000`, `000001`, … (six digits, more only past 999 999, so the names sort lexically in time order), attributes `time` (f64) and `step` (u64), one dataset per field |
 //! | `/probes/<name>` | datasets `time` `[m]`, `position` `[m, 3]`, `velocity` `[m, 3]` (all f64) |
+//! | `/series/<name>` | dataset `time` `[m]` and one f64 dataset `[m]` per column (a tool's or grip's travel and reaction force, …); since format version 2 |
 //! | `/summary` | one attribute per key of the run's summary plus `json`, the whole map as a JSON string |
 //!
 //! and a sidecar `<name>.xmf` (XDMF 3): a temporal collection of the snapshots, each a
@@ -97,12 +98,12 @@ use std::path::{Path, PathBuf};
 
 pub use data::{Dataset, DatasetData};
 pub use error::OutputError;
-pub use read::{read_file, FileContents, Probe, Snapshot};
+pub use read::{read_file, FileContents, Probe, Series, Snapshot};
 
 /// Value of the root attribute `format`.
 pub const FORMAT_NAME: &str = "sph-solids-output";
 /// Value of the root attribute `format_version`.
-pub const FORMAT_VERSION: u64 = 1;
+pub const FORMAT_VERSION: u64 = 2;
 
 /// Writes one run's results file. Obtain one from [`create_writer`].
 ///
@@ -136,6 +137,16 @@ pub trait ResultWriter: Send {
         times: &[f64],
         positions: &[[f64; 3]],
         velocities: &[[f64; 3]],
+    ) -> Result<(), OutputError>;
+
+    /// Writes series `name` as `/series/<name>/time` plus one f64 dataset per column (names
+    /// unique, not `time`, free of `/`; each column as long as `times`). A series name may be
+    /// written once.
+    fn write_series(
+        &mut self,
+        name: &str,
+        times: &[f64],
+        columns: &[(&str, &[f64])],
     ) -> Result<(), OutputError>;
 
     /// Writes the run's summary to `/summary`: one attribute per key plus the full map as the

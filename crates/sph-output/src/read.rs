@@ -42,6 +42,15 @@ pub struct Probe {
     pub velocities: Vec<[f64; 3]>,
 }
 
+/// One series read back: `time` and the columns by name.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Series {
+    /// `time`.
+    pub times: Vec<f64>,
+    /// The other datasets of the group, by name.
+    pub columns: BTreeMap<String, Vec<f64>>,
+}
+
 /// Everything in a results file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FileContents {
@@ -51,6 +60,8 @@ pub struct FileContents {
     pub snapshots: Vec<Snapshot>,
     /// `/probes/*` by name.
     pub probes: BTreeMap<String, Probe>,
+    /// `/series/*` by name (empty for files of format version 1, which have none).
+    pub series: BTreeMap<String, Series>,
     /// `/summary` (from its `json` attribute; empty if never written).
     pub summary: Map<String, Value>,
 }
@@ -140,10 +151,39 @@ pub fn read_file(path: impl AsRef<Path>) -> Result<FileContents, OutputError> {
         probes.insert(name, probe);
     }
 
+    let mut series = BTreeMap::new();
+    if let Ok(group) = file.group("series") {
+        for name in group.groups().map_err(|e| err(path, "list /series", e))? {
+            let g = file
+                .group(&format!("series/{name}"))
+                .map_err(|e| err(path, format!("open /series/{name}"), e))?;
+            let mut columns = BTreeMap::new();
+            for d in g
+                .datasets()
+                .map_err(|e| err(path, format!("list /series/{name}"), e))?
+            {
+                let p = format!("series/{name}/{d}");
+                match read_dataset(&file, path, &p, &d)?.data {
+                    DatasetData::F64 { values, .. } => {
+                        columns.insert(d, values);
+                    }
+                    DatasetData::U64 { .. } => {
+                        return Err(OutputError::layout(path, format!("/{p} should be f64")))
+                    }
+                }
+            }
+            let times = columns.remove("time").ok_or_else(|| {
+                OutputError::layout(path, format!("/series/{name} has no `time` dataset"))
+            })?;
+            series.insert(name, Series { times, columns });
+        }
+    }
+
     Ok(FileContents {
         meta,
         snapshots,
         probes,
+        series,
         summary,
     })
 }

@@ -37,10 +37,10 @@ pub(crate) trait Sink: Send {
 }
 
 /// Creates the temporary file with the root attributes and the empty groups `meta`,
-/// `snapshots`, `probes`, `summary`.
+/// `snapshots`, `probes`, `series`, `summary`.
 pub(crate) type SinkFactory = fn(&Path, &[(String, Attr)]) -> Result<Box<dyn Sink>, OutputError>;
 
-pub(crate) const TOP_GROUPS: [&str; 4] = ["meta", "snapshots", "probes", "summary"];
+pub(crate) const TOP_GROUPS: [&str; 5] = ["meta", "snapshots", "probes", "series", "summary"];
 
 pub(crate) struct LayoutWriter {
     tmp: PathBuf,
@@ -49,6 +49,7 @@ pub(crate) struct LayoutWriter {
     sink: Box<dyn Sink>,
     snapshots: Vec<XdmfSnapshot>,
     probes: Vec<String>,
+    series: Vec<String>,
 }
 
 impl LayoutWriter {
@@ -71,6 +72,7 @@ impl LayoutWriter {
             sink,
             snapshots: Vec::new(),
             probes: Vec::new(),
+            series: Vec::new(),
         })
     }
 
@@ -225,6 +227,55 @@ impl ResultWriter for LayoutWriter {
             false,
         )?;
         self.probes.push(name.to_string());
+        Ok(())
+    }
+
+    fn write_series(
+        &mut self,
+        name: &str,
+        times: &[f64],
+        columns: &[(&str, &[f64])],
+    ) -> Result<(), OutputError> {
+        check_name(name)
+            .map_err(|e| OutputError::invalid(&self.tmp, format!("series name {name:?}: {e}")))?;
+        if self.series.iter().any(|p| p == name) {
+            return Err(OutputError::invalid(
+                &self.tmp,
+                format!("series {name:?} written twice"),
+            ));
+        }
+        let mut sets = vec![Dataset::scalars("time", times)];
+        for (c, values) in columns {
+            check_name(c).map_err(|e| {
+                OutputError::invalid(&self.tmp, format!("series {name:?} column {c:?}: {e}"))
+            })?;
+            if *c == "time" || sets.iter().any(|d| d.name == *c) {
+                return Err(OutputError::invalid(
+                    &self.tmp,
+                    format!("series {name:?}: column {c:?} repeated or named `time`"),
+                ));
+            }
+            if values.len() != times.len() {
+                return Err(OutputError::invalid(
+                    &self.tmp,
+                    format!(
+                        "series {name:?} column {c:?}: {} values for {} times",
+                        values.len(),
+                        times.len()
+                    ),
+                ));
+            }
+            sets.push(Dataset::scalars(*c, values));
+        }
+        self.sink.write_group(
+            &GroupSpec {
+                path: format!("series/{name}"),
+                attrs: Vec::new(),
+                datasets: sets.iter().collect(),
+            },
+            false,
+        )?;
+        self.series.push(name.to_string());
         Ok(())
     }
 

@@ -55,7 +55,7 @@ def compare_datasets(where, a, b):
 
 
 def check_layout(name, f):
-    for g in ("meta", "snapshots", "probes", "summary"):
+    for g in ("meta", "snapshots", "probes", "series", "summary"):
         if not isinstance(f.get(g), h5py.Group):
             fail(f"{name}: missing group /{g}")
             return False
@@ -75,6 +75,12 @@ def check_layout(name, f):
         for d in ("time", "position", "velocity"):
             if d not in grp:
                 fail(f"{name}: /probes/{p} has no {d}")
+    for p, grp in f["series"].items():
+        if "time" not in grp:
+            fail(f"{name}: /series/{p} has no time")
+        for d, ds in grp.items():
+            if ds.shape != grp["time"].shape:
+                fail(f"{name}: /series/{p}/{d} is not as long as its time")
     return True
 
 
@@ -85,7 +91,7 @@ def main(pa, pb):
         compare_attrs("/", a, b)
         for g in ("meta", "summary"):
             compare_attrs(f"/{g}", a[g], b[g])
-        for top in ("snapshots", "probes"):
+        for top in ("snapshots", "probes", "series"):
             na, nb = sorted(a[top].keys()), sorted(b[top].keys())
             if na != nb:
                 fail(f"/{top}: members differ: {na} vs {nb}")
@@ -101,7 +107,7 @@ def main(pa, pb):
                     compare_datasets(f"/{top}/{n}/{d}", ga[d], gb[d])
         print(
             f"h5py {h5py.__version__}: compared {len(a['snapshots'])} snapshots, "
-            f"{len(a['probes'])} probes, meta and summary"
+            f"{len(a['probes'])} probes, {len(a['series'])} series, meta and summary"
         )
 
 

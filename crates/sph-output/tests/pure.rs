@@ -93,6 +93,14 @@ fn rejected_calls_leave_the_writer_usable() {
     assert!(w.write_probe("p", &[0.0], &[], &[]).is_err());
     w.write_probe("p", &[0.0], &[[1.0, 2.0, 3.0]], &[[0.0; 3]])
         .unwrap();
+    // Series: wrong length, column named time, repeated column, twice: rejected.
+    assert!(w.write_series("s", &[0.0, 1.0], &[("f", &[1.0])]).is_err());
+    assert!(w.write_series("s", &[0.0], &[("time", &[1.0])]).is_err());
+    assert!(w
+        .write_series("s", &[0.0], &[("f", &[1.0]), ("f", &[2.0])])
+        .is_err());
+    w.write_series("s", &[0.0], &[("f", &[1.0])]).unwrap();
+    assert!(w.write_series("s", &[0.0], &[("f", &[1.0])]).is_err());
     let e = w
         .write_probe("p", &[0.0], &[[1.0, 2.0, 3.0]], &[[0.0; 3]])
         .unwrap_err();
@@ -112,6 +120,7 @@ fn rejected_calls_leave_the_writer_usable() {
     assert_eq!(c.snapshots[1].name, "000001");
     assert_eq!(c.summary, newer);
     assert_eq!(c.probes.len(), 1);
+    assert_eq!(c.series["s"].columns["f"], vec![1.0]);
     assert!(c.meta.is_empty());
 }
 

@@ -113,8 +113,21 @@ pub fn write_all(base: &Path, backend: Backend) -> PathBuf {
         let (t, p, v) = probe(seed, m);
         w.write_probe(name, &t, &p, &v).unwrap();
     }
+    let (t, force) = series();
+    w.write_series("punch", &t, &[("force_y", &force), ("displacement", &t)])
+        .unwrap();
     w.write_summary(&summary()).unwrap();
     w.finish().expect("finish")
+}
+
+/// The standard series: a reaction force over time.
+pub fn series() -> (Vec<f64>, Vec<f64>) {
+    let t: Vec<f64> = (0..7).map(|k| k as f64 * 0.125).collect();
+    let f = t
+        .iter()
+        .map(|t| (3.0 * t).sin() * 1e3 + 1.0 / 3.0)
+        .collect();
+    (t, f)
 }
 
 /// Asserts `contents` is exactly the standard content, bit for bit.
@@ -145,6 +158,12 @@ pub fn check_contents(c: &sph_output::FileContents) {
             }
         }
     }
+    let (t, force) = series();
+    let s = &c.series["punch"];
+    assert_eq!(s.times, t);
+    assert_eq!(s.columns["force_y"], force);
+    assert_eq!(s.columns["displacement"], t);
+    assert_eq!(s.columns.len(), 2);
     assert_eq!(c.probes.len(), 2);
     for (name, seed, m) in PROBES {
         let p = &c.probes[name];
