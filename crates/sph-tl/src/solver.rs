@@ -202,6 +202,8 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     relaxation: Option<PairwiseDamper>,
     /// Particles in contact with each tool in the last step.
     tool_contacts: Vec<usize>,
+    /// Axes along which the centre of mass of the free particles is held still.
+    held_axes: [bool; 3],
     dp: f64,
     time: f64,
     steps: u64,
@@ -370,6 +372,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             series: Vec::new(),
             relaxation: None,
             tool_contacts: Vec::new(),
+            held_axes: [false; 3],
             dp: body.dp,
             time: 0.0,
             steps: 0,
@@ -440,6 +443,44 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             &self.volumes,
         )?);
         Ok(self)
+    }
+
+    /// Holds the centre of mass of the free particles still along the selected axes: after
+    /// each velocity update, the free particles' mass-weighted mean velocity along those axes
+    /// is removed. For a body whose rigid motion nothing else fixes and whose symmetric state
+    /// is unstable (a strip between frictionless punches slides sideways once it wraps around
+    /// their corners): a symmetry condition on the rigid mode only, which leaves the
+    /// deformation free. It acts like an external force, so momentum along those axes is not
+    /// conserved but held at its value (zero for a body at rest).
+    pub fn with_centre_held(mut self, axes: [bool; 3]) -> Self {
+        self.held_axes = axes;
+        self
+    }
+
+    /// Removes the free particles' mean velocity along the held axes (sequential sums: the
+    /// same result whatever the thread count).
+    fn hold_centre(&mut self) {
+        if !self.held_axes.iter().take(D::D).any(|&a| a) {
+            return;
+        }
+        let (mut p, mut m) = (D::zero(), 0.0);
+        for ((&v, &mi), &free) in self.velocities.iter().zip(&self.masses).zip(&self.free) {
+            if free {
+                p += v * mi;
+                m += mi;
+            }
+        }
+        let mut mean = p / m;
+        for (k, &held) in self.held_axes.iter().enumerate().take(D::D) {
+            if !held {
+                D::set_component(&mut mean, k, 0.0);
+            }
+        }
+        for (v, &free) in self.velocities.iter_mut().zip(&self.free) {
+            if free {
+                *v -= mean;
+            }
+        }
     }
 
     /// Empty series for the tools and named constraints, with a first row at the current time.
@@ -865,6 +906,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         for (meter, impulse) in self.tool_meters.iter_mut().zip(impulses) {
             meter.add(-impulse / dt, dt);
         }
+        self.hold_centre();
         self.time += dt;
         self.steps += 1;
         // Eq 22 with v^{n+1}, then eq 32.

@@ -69,6 +69,12 @@ impl Case for PunchingStrip2d {
                 "height reduction at the end (0.5 = 50 %)",
             ),
             Param::int("resolution", 30, Range::Closed(4.0, 400.0), "H/dp"),
+            Param::bool(
+                "hold_centre",
+                false,
+                "hold the strip's centre of mass still in x (frictionless punches leave its \
+                 sideways sliding free, and it is unstable once the strip wraps their corners)",
+            ),
             Param::float(
                 "punch_speed",
                 2.0,
@@ -145,6 +151,7 @@ impl Case for PunchingStrip2d {
         let end_time = down.arrival_time() + hold;
         let damping = relaxation(p, rho, e, h)?;
         let interval = p.f64("probe_interval");
+        let hold_centre = p.flag("hold_centre");
         let (mu, lambda) = (constants.shear_modulus, constants.lame_lambda);
         let summary_tools = tools.clone();
         let summarise = move |s: &dyn Solver<D2>, _: &RunRecord| {
@@ -163,7 +170,10 @@ impl Case for PunchingStrip2d {
             body,
             mat,
             |s| {
-                let s = s.with_tools(tools)?.with_probes(Vec::new(), interval)?;
+                let s = s
+                    .with_tools(tools)?
+                    .with_centre_held([hold_centre, false, false])
+                    .with_probes(Vec::new(), interval)?;
                 Ok(match damping {
                     Some(d) => s.with_relaxation(d)?,
                     None => s,

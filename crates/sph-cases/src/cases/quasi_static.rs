@@ -14,7 +14,7 @@
 use crate::params::{Param, Params, Range};
 use serde_json::{json, Value as Json};
 use sph_core::relaxation::PairwiseDamping;
-use sph_core::{Dim, Field, Series, Solver};
+use sph_core::{Dim, Field, Series, Solver, TimeFunction, ToolMotion};
 use std::collections::HashMap;
 
 /// Fraction of the loading time spent on the smooth start.
@@ -49,6 +49,22 @@ pub fn timeline(p: &Params, travel: f64, speed: f64) -> (f64, f64) {
         _ => HOLD_FRACTION * loading,
     };
     (RAMP_FRACTION * loading, hold)
+}
+
+/// A grip's prescribed velocity: along `direction` at `speed` after a smooth start of
+/// `ramp` (the tools' [`ToolMotion`] profile), stopping after `travel`. Returns the velocity
+/// function and the arrival time.
+pub fn grip_motion<D: Dim>(
+    direction: D::Vector,
+    speed: f64,
+    ramp: f64,
+    travel: f64,
+) -> Result<(TimeFunction<D>, f64), sph_core::Error> {
+    let motion = ToolMotion::<D>::new(direction, speed, ramp, travel)?;
+    Ok((
+        TimeFunction::new(move |t| motion.velocity(t)),
+        motion.arrival_time(),
+    ))
 }
 
 /// The relaxation damping for a body of size `length`, or `None` when `relaxation` is 0.
