@@ -25,6 +25,37 @@ pub fn frame_at(c: &FileContents, t: f64, title: &str) -> Option<Frame> {
     })
 }
 
+/// A 3D (or 2D) snapshot nearest to `t` projected on the coordinate axes `axes = (a, b)`
+/// (0 = x, 1 = y, 2 = z), keeping the particles for which `keep(position)` holds (a slab for a
+/// cut), coloured by `field`.
+pub fn frame_projected(
+    c: &FileContents,
+    t: f64,
+    title: &str,
+    axes: (usize, usize),
+    field: &str,
+    keep: impl Fn([f64; 3]) -> bool,
+) -> Option<Frame> {
+    let snap = c
+        .snapshots
+        .iter()
+        .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))?;
+    let pos = snap.dataset("position")?.as_f64()?;
+    let value = snap.dataset(field)?.as_f64()?;
+    let points = value
+        .iter()
+        .enumerate()
+        .filter_map(|(k, &v)| {
+            let p = [pos[3 * k], pos[3 * k + 1], pos[3 * k + 2]];
+            keep(p).then_some((p[axes.0], p[axes.1], v))
+        })
+        .collect();
+    Some(Frame {
+        title: format!("{title}, t = {:.4e}", snap.time),
+        points,
+    })
+}
+
 /// Particle-to-particle roughness of the frame's value in a region: for each particle `i`
 /// with `in_region(x, y)`, `|s_i − mean of s_j|` over the other particles closer than `1.6 dp`;
 /// returns the 99th percentile of that over the region (in the value's unit: ≈ curvature · dp²

@@ -127,9 +127,44 @@ fn heat(s: f64) -> HSLColor {
     HSLColor(0.66 * (1.0 - s), 0.9, 0.45)
 }
 
+/// A horizontal colour bar at `origin` (pixels) of `width` × 14 px for values 0 … `vmax`, with
+/// tick labels at 0, ½ and 1 of the range (the same map as the particles).
+fn colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    origin: (i32, i32),
+    width: i32,
+    vmax: f64,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (x0, y0) = origin;
+    let steps = 100;
+    for k in 0..steps {
+        let a = x0 + width * k / steps;
+        let b = x0 + width * (k + 1) / steps;
+        let s = (k as f64 + 0.5) / steps as f64;
+        area.draw(&Rectangle::new([(a, y0), (b, y0 + 14)], heat(s).filled()))?;
+    }
+    area.draw(&Rectangle::new([(x0, y0), (x0 + width, y0 + 14)], BLACK))?;
+    for (k, frac) in [0.0, 0.5, 1.0].iter().enumerate() {
+        let label = if k == 0 {
+            "0".to_string()
+        } else {
+            format!("{:.3e}", frac * vmax)
+        };
+        let x = x0 + (width as f64 * frac) as i32 + 6;
+        let x = if k == 2 { x } else { x - 6 };
+        area.draw(&Text::new(
+            label,
+            (if k == 2 { x0 + width + 6 } else { x.max(x0) }, y0 + 16),
+            ("sans-serif", 13).into_font(),
+        ))?;
+    }
+    Ok(())
+}
+
 /// Particle pictures: the frames side by side (same axes, equal aspect), particles coloured by
-/// value from 0 (blue) to `vmax` (red; larger values saturate), `columns` panels per row;
-/// particles are drawn as discs of diameter ≈ `dp` (at least one pixel).
+/// value from 0 (blue) to `vmax` (red; larger values saturate; a colour bar under the title),
+/// `columns` panels per row; particles are drawn as discs of diameter ≈ `dp` (at least one
+/// pixel).
 pub fn particle_frames(
     path: &Path,
     title: &str,
@@ -165,10 +200,14 @@ pub fn particle_frames(
     let root = BitMapBackend::new(path, (panel_w * columns as u32, panel_h * rows as u32 + 60))
         .into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let caption = format!("{title} — colour 0 (blue) … {vmax:.3e} (red)");
     let (head, body) = root.split_vertically(60);
-    head.titled(&caption, ("sans-serif", 20))
-        .map_err(|e| err(&e))?;
+    head.draw(&Text::new(
+        title.to_string(),
+        (10, 6),
+        ("sans-serif", 20).into_font(),
+    ))
+    .map_err(|e| err(&e))?;
+    colour_bar(&head, (10, 32), 400, vmax).map_err(|e| err(&e))?;
     let panels = body.split_evenly((rows, columns));
     let radius = ((panel_w as f64 / (x1 - x0) * 0.45 * dp).round() as i32).clamp(1, 4);
     for (frame, area) in frames.iter().zip(panels) {

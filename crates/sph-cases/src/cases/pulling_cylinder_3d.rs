@@ -55,7 +55,12 @@ impl Case for PullingCylinder3d {
                 Range::Open(1.0, 1000.0),
                 "final/initial distance between the grips (3.4 = the paper's 240 %)",
             ),
-            Param::float("pull_speed", 2.0, Range::Positive, "speed of each grip (m/s)"),
+            Param::float(
+                "pull_speed",
+                2.0,
+                Range::Positive,
+                "speed of each grip (m/s)",
+            ),
             Param::float("density", 1100.0, Range::Positive, "ρ0 (kg/m³)"),
             Param::float("youngs_modulus", 1e9, Range::Positive, "E (Pa)"),
             Param::float("nu", 0.49, Range::Open(-1.0, 0.5), "Poisson's ratio"),
@@ -192,7 +197,10 @@ pub fn cylinder_summary(
             "reaction_force_bottom".into(),
             finite_or_null(mean_after(bottom, "force_z", settled)),
         );
-        let (zt, zb) = (top.column("z").unwrap_or(&[]), bottom.column("z").unwrap_or(&[]));
+        let (zt, zb) = (
+            top.column("z").unwrap_or(&[]),
+            bottom.column("z").unwrap_or(&[]),
+        );
         let d0 = zt.first().zip(zb.first()).map(|(a, b)| a - b);
         let stretch: Vec<f64> = zt
             .iter()
@@ -211,7 +219,7 @@ pub fn cylinder_summary(
             .collect();
         m.insert(
             "force_curve".into(),
-            curve_json(&stretch, &force, "stretch", 400),
+            curve_json(&top.time, &stretch, &force, "stretch", 400),
         );
     }
     let (reference, f) = reference_and_deformation::<D3>(s);

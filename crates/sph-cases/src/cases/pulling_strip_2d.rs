@@ -121,7 +121,9 @@ impl Case for PullingStrip2d {
         // Grip rows: reference y within `rows` spacings of the top/bottom face.
         let edge = 0.5 * l - rows as f64 * dp;
         let top: Vec<u32> = (0..n as u32).filter(|&i| x0[i as usize].y > edge).collect();
-        let bottom: Vec<u32> = (0..n as u32).filter(|&i| x0[i as usize].y < -edge).collect();
+        let bottom: Vec<u32> = (0..n as u32)
+            .filter(|&i| x0[i as usize].y < -edge)
+            .collect();
         let gauge = l - (2 * rows - 1) as f64 * dp;
         let stretch = p.f64("stretch");
         let speed = p.f64("pull_speed");
@@ -212,7 +214,10 @@ pub fn pulling_summary(
         let f_bottom = mean_after(bottom, "force_y", settled);
         m.insert("reaction_force".into(), finite_or_null(f_top));
         m.insert("reaction_force_bottom".into(), finite_or_null(f_bottom));
-        let (yt, yb) = (top.column("y").unwrap_or(&[]), bottom.column("y").unwrap_or(&[]));
+        let (yt, yb) = (
+            top.column("y").unwrap_or(&[]),
+            bottom.column("y").unwrap_or(&[]),
+        );
         let (yt0, yb0) = (yt.first().copied(), yb.first().copied());
         let stretch: Vec<f64> = yt
             .iter()
@@ -236,7 +241,7 @@ pub fn pulling_summary(
             .collect();
         m.insert(
             "force_curve".into(),
-            curve_json(&stretch, &force, "stretch", 400),
+            curve_json(&top.time, &stretch, &force, "stretch", 400),
         );
     }
     let (reference, f) = reference_and_deformation::<D2>(s);

@@ -248,6 +248,7 @@ pub fn punching_summary(
         m.insert(
             "force_curve".into(),
             curve_json(
+                &top.time,
                 &compression,
                 top.column("force_y").unwrap_or(&[]),
                 "compression",

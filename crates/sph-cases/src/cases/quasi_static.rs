@@ -129,10 +129,10 @@ pub fn mean_after(series: &Series, column: &str, t0: f64) -> f64 {
     }
 }
 
-/// A force curve `{x: [...], force: [...]}` (JSON) from two columns of a series, at most
-/// `max_points` samples (evenly thinned).
-pub fn curve_json(x: &[f64], force: &[f64], x_name: &str, max_points: usize) -> Json {
-    let n = x.len().min(force.len());
+/// A force curve `{time: [...], x: [...], force: [...]}` (JSON) from a series' times and two
+/// of its columns, at most `max_points` samples (evenly thinned, the last kept).
+pub fn curve_json(time: &[f64], x: &[f64], force: &[f64], x_name: &str, max_points: usize) -> Json {
+    let n = x.len().min(force.len()).min(time.len());
     let stride = n.div_ceil(max_points.max(1)).max(1);
     let pick = |v: &[f64]| -> Vec<Json> {
         (0..n)
@@ -141,7 +141,7 @@ pub fn curve_json(x: &[f64], force: &[f64], x_name: &str, max_points: usize) -> 
             .map(|k| crate::runner::finite_or_null(v[k]))
             .collect()
     };
-    json!({ x_name: pick(x), "force": pick(force) })
+    json!({ "time": pick(time), x_name: pick(x), "force": pick(force) })
 }
 
 /// The reference positions `X = x − u` and deformation gradients of a TL solver.
@@ -267,7 +267,7 @@ mod tests {
     #[test]
     fn curve_is_thinned_but_keeps_the_ends() {
         let x: Vec<f64> = (0..1000).map(|k| k as f64).collect();
-        let c = curve_json(&x, &x, "compression", 100);
+        let c = curve_json(&x, &x, &x, "compression", 100);
         let xs = c["compression"].as_array().unwrap();
         assert!(xs.len() <= 101, "{}", xs.len());
         assert_eq!(xs[0], json!(0.0));

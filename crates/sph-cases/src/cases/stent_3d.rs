@@ -121,7 +121,8 @@ impl Case for Stent3d {
     fn info(&self) -> CaseInfo {
         CaseInfo {
             name: "stent-3d",
-            description: "Palmaz–Schatz-like diamond-cell stent under point forces or punches (TL §4.6)",
+            description:
+                "Palmaz–Schatz-like diamond-cell stent under point forces or punches (TL §4.6)",
             methods: TL_METHODS,
         }
     }
@@ -137,8 +138,18 @@ impl Case for Stent3d {
                 Range::Closed(1.0, 12.0),
                 "particle layers across the wall (dp = wall/wall_layers; the paper's 3)",
             ),
-            Param::int("cells_around", 12, Range::Closed(3.0, 200.0), "diamond cells around"),
-            Param::int("cells_along", 8, Range::Closed(1.0, 200.0), "diamond cells along"),
+            Param::int(
+                "cells_around",
+                12,
+                Range::Closed(3.0, 200.0),
+                "diamond cells around",
+            ),
+            Param::int(
+                "cells_along",
+                8,
+                Range::Closed(1.0, 200.0),
+                "diamond cells along",
+            ),
             Param::float("strut_width", 0.2e-3, Range::Positive, "strut width (m)"),
             Param::choice(
                 "loading",
@@ -147,9 +158,24 @@ impl Case for Stent3d {
                 "two opposite point forces at mid-length, or two rigid punches along the stent",
             ),
             Param::float("force", 0.1, Range::Positive, "each point force (N)"),
-            Param::float("punch_speed", 0.1, Range::Positive, "speed of each punch (m/s)"),
-            Param::float("punch_size", 0.15e-3, Range::Positive, "punch cross-section side (m)"),
-            Param::float("punch_length", 20e-3, Range::Positive, "punch length along z (m)"),
+            Param::float(
+                "punch_speed",
+                0.1,
+                Range::Positive,
+                "speed of each punch (m/s)",
+            ),
+            Param::float(
+                "punch_size",
+                0.15e-3,
+                Range::Positive,
+                "punch cross-section side (m)",
+            ),
+            Param::float(
+                "punch_length",
+                20e-3,
+                Range::Positive,
+                "punch length along z (m)",
+            ),
             Param::float("end_time", 0.34e-3, Range::Positive, "simulated time (s)"),
             Param::float("density", 1100.0, Range::Positive, "ρ0 (kg/m³)"),
             Param::float("youngs_modulus", 17e6, Range::Positive, "E (Pa)"),
@@ -163,7 +189,8 @@ impl Case for Stent3d {
         ];
         specs.extend(tl_params());
         let mut p = Params::new("stent-3d", specs);
-        p.set_text("snapshot_interval", "2e-5").expect("valid default");
+        p.set_text("snapshot_interval", "2e-5")
+            .expect("valid default");
         p.set_text("probe_interval", "2e-6").expect("valid default");
         p
     }
@@ -239,12 +266,17 @@ impl Case for Stent3d {
             let ramp = 0.05 * p.f64("end_time");
             for (name, side) in [("punch_top", 1.0), ("punch_bottom", -1.0)] {
                 let y0 = side * r_out;
-                let (ylo, yhi) = if side > 0.0 { (y0, y0 + a) } else { (y0 - a, y0) };
+                let (ylo, yhi) = if side > 0.0 {
+                    (y0, y0 + a)
+                } else {
+                    (y0 - a, y0)
+                };
                 let shape = ToolShape::cuboid(
                     DVec3::new(-0.5 * a, ylo, z_mid - 0.5 * len),
                     DVec3::new(0.5 * a, yhi, z_mid + 0.5 * len),
                 )?;
-                let motion = ToolMotion::new(DVec3::new(0.0, -side, 0.0), speed, ramp, f64::INFINITY)?;
+                let motion =
+                    ToolMotion::new(DVec3::new(0.0, -side, 0.0), speed, ramp, f64::INFINITY)?;
                 tools.push(RigidTool::new(name, shape, motion));
             }
         }
@@ -365,7 +397,9 @@ mod tests {
         let d = p.strut_distance(centre.0, centre.1 + 1e-9);
         assert!(d > 0.5e-3, "{d}");
         // Periodic in θ.
-        assert!((p.strut_distance(0.1, 7e-3) - p.strut_distance(0.1 + 2.0 * PI, 7e-3)).abs() < 1e-15);
+        assert!(
+            (p.strut_distance(0.1, 7e-3) - p.strut_distance(0.1 + 2.0 * PI, 7e-3)).abs() < 1e-15
+        );
     }
 
     #[test]
@@ -382,10 +416,14 @@ mod tests {
         let dz = p.length / p.cells_along as f64;
         let ds = p.mid_radius() * PI / p.cells_around as f64;
         let strut = (dz * dz + ds * ds).sqrt();
-        let expected = 2.0 * (p.cells_around * p.cells_along) as f64 * strut * p.strut_width * p.wall;
+        let expected =
+            2.0 * (p.cells_around * p.cells_along) as f64 * strut * p.strut_width * p.wall;
         let got = set.total_volume();
         // Tolerance: the lattice resolves the strut width to ±dp, and nodes overlap (≤ 10 %).
-        assert!((got / expected - 1.0).abs() < 0.15, "{got} vs {expected}, dp {dp}");
+        assert!(
+            (got / expected - 1.0).abs() < 0.15,
+            "{got} vs {expected}, dp {dp}"
+        );
         assert!(set.positions().iter().all(|x| {
             let r = (x.x * x.x + x.y * x.y).sqrt();
             r > p.outer_radius - p.wall && r < p.outer_radius
