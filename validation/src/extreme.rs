@@ -644,6 +644,7 @@ fn fem_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Str
             });
         }
     }
+    writeln!(md).unwrap();
     if !plot.is_empty() {
         line_plot(
             &fig_dir.join("ext_punch_force.png"),
@@ -652,7 +653,7 @@ fn fem_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Str
             "force (N/m)",
             &plot,
         )?;
-        writeln!(md, "\n![punching force]({rel_dir}/ext_punch_force.png)\n").unwrap();
+        writeln!(md, "![punching force]({rel_dir}/ext_punch_force.png)\n").unwrap();
     }
     // Clamped pulling.
     writeln!(
