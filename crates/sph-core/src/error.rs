@@ -56,6 +56,18 @@ pub enum Error {
         /// Simulated time.
         time: f64,
     },
+    /// A particle became inverted: its volume ratio `J = det F` (or `ρ0/ρ`) is not positive.
+    #[error("particle {particle} inverted (J = {jacobian:e} <= 0) at step {step}, time {time:e}")]
+    Inverted {
+        /// The particle.
+        particle: usize,
+        /// Its `J`.
+        jacobian: f64,
+        /// Step number.
+        step: u64,
+        /// Simulated time.
+        time: f64,
+    },
     /// A particle lost all its neighbours (fracture or blow-up in an updated-Lagrangian run).
     #[error("particle {particle} lost all its neighbours at step {step}, time {time:e}")]
     LostNeighbours {
