@@ -56,6 +56,19 @@ pub enum Error {
         /// Simulated time.
         time: f64,
     },
+    /// A generator would make more particles than the memory budget allows (see
+    /// [`crate::budget`]); nothing was allocated.
+    #[error("{what} would generate ≈ {particles} particles needing ≈ {memory} of memory, more than the limit of {limit}")]
+    TooManyParticles {
+        /// The generator call (e.g. `annulus_polar at dp = 1e-6`).
+        what: String,
+        /// The estimated particle count, formatted.
+        particles: String,
+        /// The estimated peak memory of the run, formatted.
+        memory: String,
+        /// The limit and where it comes from.
+        limit: String,
+    },
     /// A particle became inverted: its volume ratio `J = det F` (or `ρ0/ρ`) is not positive.
     #[error("particle {particle} inverted (J = {jacobian:e} <= 0) at step {step}, time {time:e}")]
     Inverted {
