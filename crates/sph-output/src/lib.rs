@@ -82,7 +82,7 @@
 //! ])?;
 //! let summary = serde_json::json!({"status": "ok", "steps": 0});
 //! w.write_summary(summary.as_object().unwrap())?;
-//! let h5 = w.finish()?; // beam.h5 and beam.xmf now exist; beam.h5.tmp is gone
+//! let h5 = w.finish()?; // beam.h5 and beam.xmf now exist; the temporary file is gone
 //! let back = read_file(&h5)?;
 //! assert_eq!(back.snapshots[0].dataset("position").unwrap().shape(), &[2, 3]);
 //! # std::fs::remove_dir_all(&dir)?;
@@ -152,8 +152,9 @@ pub trait ResultWriter: Send {
         summary: &serde_json::Map<String, serde_json::Value>,
     ) -> Result<(), OutputError>;
 
-    /// Completes the file: closes `<name>.h5.tmp`, renames it to `<name>.h5`, and writes the
-    /// XDMF sidecar `<name>.xmf` (via `<name>.xmf.tmp`). Returns the path of the `.h5` file.
+    /// Completes the file: closes its temporary file, renames it to `<name>.h5`, and writes the
+    /// XDMF sidecar `<name>.xmf` (through a temporary file too), then releases the lock.
+    /// Returns the path of the `.h5` file.
     fn finish(self: Box<Self>) -> Result<PathBuf, OutputError>;
 
     /// The path of the `.h5` file this writer produces on [`finish`](Self::finish).
