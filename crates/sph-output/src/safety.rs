@@ -256,6 +256,33 @@ fn same_inode(_file: &File, path: &Path) -> bool {
     path.exists()
 }
 
+/// Bytes free for an unprivileged writer on the file system that holds `path` (or, if `path`
+/// does not exist yet, its nearest existing ancestor); `None` where it cannot be read.
+pub fn free_space(path: &Path) -> Option<u64> {
+    let mut p = std::path::absolute(path).ok()?;
+    while !p.exists() {
+        p = p.parent()?.to_path_buf();
+    }
+    statvfs_available(&p)
+}
+
+#[cfg(unix)]
+fn statvfs_available(path: &Path) -> Option<u64> {
+    use std::os::unix::ffi::OsStrExt;
+    let c = std::ffi::CString::new(path.as_os_str().as_bytes()).ok()?;
+    // SAFETY: `statvfs` is plain old data, for which all zeros is a valid value.
+    let mut s: libc::statvfs = unsafe { std::mem::zeroed() };
+    // SAFETY: `c` is a NUL-terminated path and `s` a valid, exclusively borrowed out-pointer.
+    let r = unsafe { libc::statvfs(c.as_ptr(), &mut s) };
+    #[allow(clippy::unnecessary_cast)] // the field types differ between platforms
+    (r == 0).then(|| (s.f_bavail as u64).saturating_mul(s.f_frsize as u64))
+}
+
+#[cfg(not(unix))]
+fn statvfs_available(_path: &Path) -> Option<u64> {
+    None
+}
+
 /// Whether `a` and `b` name the same file: the same device and inode when both exist, else the
 /// same absolute path once the parent directories are resolved (for names not created yet).
 pub fn same_file(a: &Path, b: &Path) -> bool {
@@ -358,6 +385,17 @@ mod tests {
         assert!(!lock_path.exists(), "the holder removes its lock file");
         let again = OutputLock::acquire(&target).unwrap();
         drop(again);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn free_space_is_read_for_new_paths_too() {
+        let d = scratch("free");
+        let here = free_space(&d).expect("statvfs works here");
+        assert!(here > 0);
+        let deeper = free_space(&d.join("not/yet/created.h5")).unwrap();
+        // Same file system; other writers may change it a little in between.
+        assert!(deeper.abs_diff(here) < here / 2 + (1 << 30), "{here} vs {deeper}");
         std::fs::remove_dir_all(&d).unwrap();
     }
 
