@@ -395,7 +395,10 @@ mod tests {
         assert!(here > 0);
         let deeper = free_space(&d.join("not/yet/created.h5")).unwrap();
         // Same file system; other writers may change it a little in between.
-        assert!(deeper.abs_diff(here) < here / 2 + (1 << 30), "{here} vs {deeper}");
+        assert!(
+            deeper.abs_diff(here) < here / 2 + (1 << 30),
+            "{here} vs {deeper}"
+        );
         std::fs::remove_dir_all(&d).unwrap();
     }
 

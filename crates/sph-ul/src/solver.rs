@@ -1381,6 +1381,16 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         }
     }
 
+    /// The acoustic step of eq 22 (what a dual step is made of).
+    fn substep_dt(&self) -> f64 {
+        acoustic_dt(
+            self.params.cfl_acoustic,
+            self.kernel.h(),
+            self.c0,
+            self.max_speed,
+        )
+    }
+
     fn time(&self) -> f64 {
         self.time
     }

@@ -74,3 +74,13 @@ fn a_nan_acceleration_stops_the_run_as_non_finite() {
     assert_eq!(s.step_count(), 0);
     assert!(s.acoustic_step_count() <= 2, "{}", s.acoustic_step_count());
 }
+
+/// The run driver's work estimate: a dual step is made of acoustic sub-steps, and
+/// `substep_dt` reports the acoustic one (eq 22), not the advection step (eq 21).
+#[test]
+fn substep_dt_is_the_acoustic_step() {
+    let dual = solver(Stepping::Dual, 0.0);
+    let single = solver(Stepping::Single, 0.0);
+    assert_eq!(dual.substep_dt(), single.stable_dt());
+    assert!(dual.stable_dt() > 10.0 * dual.substep_dt());
+}
