@@ -50,13 +50,13 @@ pub fn ul_params() -> Vec<Param> {
         Param::float(
             "ul_cfl_acoustic",
             0.4,
-            Range::Positive,
+            Range::Open(0.0, 1.0),
             "CFL_ac of eq 22: Δt_ac = CFL_ac h/(c0 + |v|max)",
         ),
         Param::float(
             "ul_cfl_advection",
             0.2,
-            Range::Positive,
+            Range::Open(0.0, 1.0),
             "CFL_ad of eq 21: Δt_ad = CFL_ad h/|v|max",
         ),
         Param::bool(
