@@ -238,10 +238,10 @@ pub fn exceeded<D: Dim>(count: f64, what: &str) -> Error {
     }
 }
 
-/// `1.5 GiB`, `236 GiB`, `3.2e292 B`: a byte count for people.
+/// `1.5 GiB`, `236 GiB`, `3.2e292 B`, `∞ B`: a byte count for people.
 pub fn format_bytes(bytes: f64) -> String {
     if !bytes.is_finite() {
-        return "an unbounded amount".into();
+        return "∞ B".into();
     }
     const UNITS: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
     let mut x = bytes;
@@ -259,10 +259,10 @@ pub fn format_bytes(bytes: f64) -> String {
     }
 }
 
-/// `48,000,000` up to a billion, `3.1e300` beyond: a particle count for people.
+/// `48,000,000` up to a billion, `3.10e300` beyond, `∞`: a count for people.
 pub fn format_count(count: f64) -> String {
     if !count.is_finite() {
-        return "unboundedly many".into();
+        return "∞".into();
     }
     if count < 1e9 {
         let s = format!("{:.0}", count.max(0.0));

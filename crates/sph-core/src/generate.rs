@@ -562,7 +562,7 @@ impl<D: Dim> Lattice<D> {
                                 (out.len() + 1) as f64 * candidates as f64 / visited as f64;
                             return Err(budget::exceeded::<D>(
                                 estimate,
-                                &format!("the lattice fill at dp = {}", self.dp),
+                                &format!("the lattice fill at dp = {:?}", self.dp),
                             ));
                         }
                         out.push(x);
@@ -962,7 +962,7 @@ pub fn annulus_polar(
     }
     budget::reserve::<D2>(
         ring_particle_estimate(r_in, r_out, dp),
-        &format!("annulus_polar at dp = {dp}"),
+        &format!("annulus_polar at dp = {dp:?}"),
     )?;
     let (dr, radii) = ring_layers(r_in, r_out, dp);
     let mut positions = Vec::new();
@@ -1013,7 +1013,7 @@ pub fn tube_polar(
     let slices = (length / dp).round().max(1.0);
     budget::reserve::<D3>(
         slices * ring_particle_estimate(r_in, r_out, dp),
-        &format!("tube_polar at dp = {dp}"),
+        &format!("tube_polar at dp = {dp:?}"),
     )?;
     // The ring itself is a 2D set of one slice's size: booked only through the tube above.
     let ring = budget::scoped(budget::Budget::unlimited(), || {
