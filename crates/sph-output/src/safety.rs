@@ -57,6 +57,10 @@ pub fn check_destination(path: &Path) -> Result<(), OutputError> {
             Some(kind) => Err(OutputError::refused(path, format!("it is {kind}"))),
         },
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotADirectory => Err(OutputError::refused(
+            path,
+            "a component of its directory is not a directory",
+        )),
         Err(e) => Err(OutputError::io(path, "inspect", e)),
     }
 }
@@ -173,6 +177,11 @@ impl Drop for TempFile {
     }
 }
 
+/// The lock file of the output `final_path`: `<final>.lock`.
+pub fn lock_path(final_path: &Path) -> PathBuf {
+    crate::with_suffix(final_path, ".lock")
+}
+
 /// An exclusive lock on the output `<final>.lock`, held while a writer lives.
 #[derive(Debug)]
 pub struct OutputLock {
@@ -184,7 +193,7 @@ impl OutputLock {
     /// Takes the lock of `final_path` (file `<final>.lock`, created if absent), or fails at once
     /// with [`OutputError::Locked`] if another process (or another writer here) holds it.
     pub fn acquire(final_path: &Path) -> Result<Self, OutputError> {
-        let path = crate::with_suffix(final_path, ".lock");
+        let path = lock_path(final_path);
         check_destination(&path)?;
         // A holder removes the file before it unlocks; if we locked a file that was removed
         // meanwhile, the next opener would lock a new one: check and retry.
