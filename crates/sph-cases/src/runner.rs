@@ -296,8 +296,19 @@ pub fn drive<D: Dim>(
         let t0 = Instant::now();
         let mut failed = None;
         while solver.time() + eps < target && interrupted() == 0 {
-            if let Err(e) = solver.step(target - solver.time()) {
+            let before = solver.time();
+            if let Err(e) = solver.step(target - before) {
                 failed = Some(e);
+                break;
+            }
+            // A step that does not advance time would repeat for ever.
+            if solver.time().is_nan() || solver.time() <= before {
+                failed = Some(sph_core::Error::TimeStepCollapsed {
+                    dt: solver.time() - before,
+                    min: 0.0,
+                    step: solver.step_count(),
+                    time: before,
+                });
                 break;
             }
         }

@@ -248,3 +248,71 @@ fn a_dry_run_estimates_and_writes_nothing() {
     assert_eq!(summary["particles"], 2);
     assert!(!dir.exists());
 }
+
+/// A solver whose step returns without advancing time (a zero step) stops the run as collapsed
+/// instead of looping for ever in the driver.
+#[test]
+fn a_step_that_does_not_advance_time_stops_the_run() {
+    struct Stuck(Failing);
+    impl Solver<D2> for Stuck {
+        fn method(&self) -> &'static str {
+            "stuck"
+        }
+        fn step(&mut self, _max_dt: f64) -> Result<StepInfo, Error> {
+            self.0.n += 1;
+            Ok(StepInfo {
+                dt: 0.0,
+                time: self.0.t,
+                step: self.0.n,
+            })
+        }
+        fn stable_dt(&self) -> f64 {
+            0.01
+        }
+        fn time(&self) -> f64 {
+            self.0.t
+        }
+        fn step_count(&self) -> u64 {
+            self.0.n
+        }
+        fn positions(&self) -> &[DVec2] {
+            &self.0.x
+        }
+        fn velocities(&self) -> &[DVec2] {
+            &self.0.v
+        }
+        fn field_names(&self) -> Vec<&'static str> {
+            vec![]
+        }
+        fn field(&self, _name: &str) -> Option<Field<D2>> {
+            None
+        }
+        fn probes(&self) -> &[Probe<D2>] {
+            &[]
+        }
+    }
+    let mut s = Stuck(Failing {
+        x: vec![DVec2::ZERO],
+        v: vec![DVec2::ZERO],
+        t: 0.0,
+        n: 0,
+        fail_at: u64::MAX,
+    });
+    let schedule = Schedule {
+        end_time: 1.0,
+        snapshot_interval: 0.0,
+        monitor_interval: 0.5,
+        probe_interval: 0.0,
+    };
+    let (record, _) = drive::<D2>(
+        &mut s,
+        Map::new(),
+        schedule,
+        &[],
+        &RunOptions::default(),
+        |_, _| Map::new(),
+    )
+    .unwrap();
+    assert_eq!(record.steps, 1);
+    assert!(record.failure.unwrap().contains("time step 0e0 fell below"));
+}
