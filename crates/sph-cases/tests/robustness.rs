@@ -7,8 +7,8 @@
 //! SPH_UPDATE_DOCS=1 cargo test -p sph-cases --test robustness reliability_doc_is_current
 //! ```
 //!
-//! Waits for a background run poll for a file with a generous cap (a hang guard, not a timing
-//! assertion).
+//! Waits for a background run poll for its files with a generous cap (a hang guard, not a
+//! timing assertion).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -120,6 +120,24 @@ fn wait_for_text(path: &Path) -> String {
             start.elapsed() < Duration::from_secs(120),
             "{} never appeared",
             path.display()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Polls until the run `child` has started writing into `out` (its own temporary file exists,
+/// so it holds the results' lock): the writer takes the lock first and releases it only when
+/// the file is complete.
+fn wait_until_writing(out: &Path, child: &Child) {
+    let mark = format!(".{}-", child.id());
+    let start = Instant::now();
+    while !listing(out)
+        .keys()
+        .any(|n| n.ends_with(".tmp") && n.contains(&mark))
+    {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the run never started writing"
         );
         std::thread::sleep(Duration::from_millis(20));
     }
@@ -790,6 +808,7 @@ fn a_second_run_into_the_same_results_fails_fast() {
         &dir,
         &with(PLATE, &["--set", "end_time=1000", "--out", "out"]),
     );
+    wait_until_writing(&dir.join("out"), &first);
     let holder = wait_for_text(&dir.join("out/oscillating-plate-2d-tl.h5.lock"));
     assert_eq!(holder.trim(), first.id().to_string());
     let r = sph(
@@ -829,7 +848,7 @@ fn a_run_after_a_killed_run_reuses_its_lock_and_keeps_its_partial_file() {
         &dir,
         &with(PLATE, &["--set", "end_time=1000", "--out", "out"]),
     );
-    wait_for_text(&dir.join("out/oscillating-plate-2d-tl.h5.lock"));
+    wait_until_writing(&dir.join("out"), &first);
     first.kill().unwrap();
     first.wait().unwrap();
     let partial: Vec<String> = leftovers(&dir)
@@ -973,7 +992,7 @@ fn sigint_and_sigterm_finish_the_step_and_complete_the_results() {
                 ],
             ),
         );
-        wait_for_text(&dir.join("out/oscillating-plate-2d-tl.h5.lock"));
+        wait_until_writing(&dir.join("out"), &child);
         signal(&child, sig);
         let r = finished(child.wait_with_output().unwrap());
         assert_eq!(r.code, Some(code), "{}", r.stderr);

@@ -180,6 +180,9 @@ pub fn run_ul<D: Dim>(
         options,
         summarise,
     )?;
+    if options.dry_run {
+        return Ok((record, summary));
+    }
     // Throughput counts force evaluations: with dual stepping one `step` is an advection step
     // made of several acoustic sub-steps, so `steps` alone would flatter single stepping.
     let acoustic = solver.acoustic_step_count();
