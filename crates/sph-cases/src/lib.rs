@@ -9,7 +9,9 @@
 pub mod analysis;
 pub mod cases;
 pub mod error;
+pub mod guard;
 pub mod params;
+pub mod preflight;
 pub mod runner;
 
 pub use error::CaseError;

@@ -146,9 +146,38 @@ pub struct Params {
     values: BTreeMap<&'static str, Value>,
 }
 
+/// Densities every case accepts, kg/m³: from a thousandth of air to fifty times osmium, so SI
+/// solids, foams and gels, and non-dimensional runs (ρ = 1) pass, and `1e300` does not.
+pub const DENSITY_RANGE: (f64, f64) = (1e-3, 1e6);
+
+/// Elastic moduli every case accepts, Pa: from soft gels (and non-dimensional runs, E = 1) to
+/// ten times diamond.
+pub const MODULUS_RANGE: (f64, f64) = (1e-3, 1e13);
+
+/// The physical bounds of a key, by name: `density`, and the elastic moduli (`*_modulus`,
+/// `lambda`, `c1`, `c2`). [`Params::new`] narrows a case's `Positive`/`NonNegative` range of
+/// such a key to these bounds, so every case, also one added later, rejects a physically
+/// absurd value naming the key and the range.
+pub fn physical_range(key: &str, declared: Range) -> Range {
+    let bounds = match key {
+        "density" => DENSITY_RANGE,
+        k if k.ends_with("_modulus") || matches!(k, "lambda" | "c1" | "c2") => MODULUS_RANGE,
+        _ => return declared,
+    };
+    match declared {
+        Range::Positive => Range::Closed(bounds.0, bounds.1),
+        Range::NonNegative => Range::Closed(0.0, bounds.1),
+        other => other,
+    }
+}
+
 impl Params {
-    /// Defaults of a case's parameters.
-    pub fn new(case: &str, specs: Vec<Param>) -> Self {
+    /// Defaults of a case's parameters. Densities and moduli get their physical bounds
+    /// ([`physical_range`]).
+    pub fn new(case: &str, mut specs: Vec<Param>) -> Self {
+        for p in &mut specs {
+            p.range = physical_range(p.key, p.range);
+        }
         let values = specs.iter().map(|p| (p.key, p.default.clone())).collect();
         Self {
             case: case.into(),
@@ -375,6 +404,41 @@ mod tests {
             "{e}"
         );
         assert!(p.apply_assignment("nu").is_err());
+    }
+
+    /// Issue 14, item 7: `density = 1e300` and `youngs_modulus = 1e-300` were accepted. Every
+    /// case's density and moduli are bounded (also cases added later: the bound is by name),
+    /// and every default lies inside.
+    #[test]
+    fn densities_and_moduli_of_every_case_have_physical_bounds() {
+        let mut seen = 0;
+        for case in crate::all_cases() {
+            for m in case.info().methods {
+                let p = case.params_for(m);
+                for spec in p.specs() {
+                    let physical = spec.key == "density"
+                        || spec.key.ends_with("_modulus")
+                        || matches!(spec.key, "lambda" | "c1" | "c2");
+                    if !physical {
+                        continue;
+                    }
+                    seen += 1;
+                    let Range::Closed(lo, hi) = spec.range else {
+                        panic!("{} {}: {:?}", case.info().name, spec.key, spec.range);
+                    };
+                    assert!(hi <= MODULUS_RANGE.1 && lo >= 0.0);
+                    assert!(spec.range.admits(p.value(spec.key).unwrap()));
+                    let mut q = p.clone();
+                    // c2 may be 0 (Mooney–Rivlin without its second term); the rest may not.
+                    let tiny = (lo > 0.0).then_some("1e-300");
+                    for bad in ["1e300", "-1"].into_iter().chain(tiny) {
+                        let e = q.set_text(spec.key, bad).unwrap_err().to_string();
+                        assert!(e.contains(spec.key) && e.contains("<="), "{e}");
+                    }
+                }
+            }
+        }
+        assert!(seen >= 20, "{seen} density/modulus keys");
     }
 
     #[test]

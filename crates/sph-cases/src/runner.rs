@@ -38,7 +38,7 @@ pub fn output_params() -> Vec<crate::params::Param> {
     ]
 }
 
-/// Where and how to write results.
+/// Where and how to write results, and what the driver may do.
 #[derive(Clone, Debug, Default)]
 pub struct RunOptions {
     /// Results file path without extension (`.h5` and `.xmf` are appended); `None` writes none.
@@ -47,7 +47,19 @@ pub struct RunOptions {
     pub backend: Backend,
     /// Show a progress bar (only drawn when stderr is a terminal).
     pub progress: bool,
+    /// Run even if the estimated work exceeds [`crate::guard::MAX_PARTICLE_STEPS`].
+    pub allow_long_run: bool,
+    /// Build the scene and make every check and estimate, then stop: nothing is run or
+    /// written; the summary holds the estimates ([`crate::guard::Estimate::to_json`]).
+    pub dry_run: bool,
+    /// Set to a signal number (by a signal handler) to stop the run after the current step:
+    /// the driver writes a last snapshot and completes the file with the status
+    /// `interrupted at t = …`.
+    pub interrupt: Option<Interrupt>,
 }
+
+/// A flag a signal handler sets to the signal's number (0: not interrupted).
+pub type Interrupt = std::sync::Arc<std::sync::atomic::AtomicUsize>;
 
 /// When things happen during a run.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,6 +70,9 @@ pub struct Schedule {
     pub snapshot_interval: f64,
     /// Interval between samples of the disorder indicator and the energies.
     pub monitor_interval: f64,
+    /// Interval between probe samples (0: every step); the probes record on their own, this
+    /// is for the estimate of their memory.
+    pub probe_interval: f64,
 }
 
 /// One sample of the run monitor.
@@ -90,11 +105,26 @@ pub struct RunRecord {
     pub monitor: Vec<MonitorSample>,
     /// The error that stopped the run early, if any.
     pub failure: Option<String>,
+    /// The signal that interrupted the run, if one did (the run stopped cleanly).
+    pub interrupted: Option<usize>,
+    /// The estimates made before the run ([`crate::guard::Estimate`]).
+    pub estimate: Option<crate::guard::Estimate>,
     /// The results file, if one was written.
     pub file: Option<PathBuf>,
 }
 
 impl RunRecord {
+    /// `completed`, `failed: <diagnostic>` or `interrupted at t = <time> s (<signal>)`.
+    pub fn status(&self) -> String {
+        match (&self.failure, self.interrupted) {
+            (Some(e), _) => format!("failed: {e}"),
+            (None, Some(sig)) => {
+                format!("interrupted at t = {} s ({})", self.time, signal_name(sig))
+            }
+            (None, None) => "completed".to_string(),
+        }
+    }
+
     /// Particle-steps per second of the solver (time inside `step` only).
     pub fn particle_steps_per_second(&self) -> f64 {
         if self.solver_seconds > 0.0 {
@@ -141,13 +171,7 @@ impl RunRecord {
             "energy_drift".into(),
             self.energy_drift().map_or(Json::Null, finite_or_null),
         );
-        m.insert(
-            "status".into(),
-            json!(match &self.failure {
-                None => "completed".to_string(),
-                Some(e) => format!("failed: {e}"),
-            }),
-        );
+        m.insert("status".into(), json!(self.status()));
         m.insert(
             "monitor".into(),
             json!({
@@ -162,6 +186,16 @@ impl RunRecord {
     }
 }
 
+/// `SIGINT`, `SIGTERM`, … for the signals a run is stopped with; `signal N` otherwise.
+pub fn signal_name(sig: usize) -> String {
+    match sig {
+        1 => "SIGHUP".into(),
+        2 => "SIGINT".into(),
+        15 => "SIGTERM".into(),
+        n => format!("signal {n}"),
+    }
+}
+
 /// A JSON number, or null for NaN/∞ (JSON has no such numbers).
 pub fn finite_or_null(x: f64) -> Json {
     if x.is_finite() {
@@ -173,8 +207,15 @@ pub fn finite_or_null(x: f64) -> Json {
 
 /// Runs `solver` to `schedule.end_time`. `meta` goes to `/meta`; `summarise` turns the record
 /// and the solver's probes into the case's figures (merged over the standard ones). Returns the
-/// record and the summary; a failure mid-run is recorded (status, diagnostic), the results file
-/// is still completed, and the caller decides the exit status from `record.failure`.
+/// record and the summary.
+///
+/// Before anything is written, the run is estimated and checked ([`crate::guard`]): an absurd
+/// schedule or end time is an `Err` naming the parameter, and nothing is written. With
+/// [`RunOptions::dry_run`] the driver stops there. Once the results file is started, nothing is
+/// an `Err` any more: a failure mid-run (a blow-up, a write error) is recorded (status,
+/// diagnostic), an interruption ([`RunOptions::interrupt`]) stops after the current step with
+/// a last snapshot, and in every case the file is completed with everything computed; the
+/// caller decides the exit status from `record.failure` and `record.interrupted`.
 pub fn drive<D: Dim>(
     solver: &mut dyn Solver<D>,
     meta: Map<String, Json>,
@@ -184,6 +225,23 @@ pub fn drive<D: Dim>(
     summarise: impl FnOnce(&dyn Solver<D>, &RunRecord) -> Map<String, Json>,
 ) -> Result<(RunRecord, Map<String, Json>), CaseError> {
     let started = Instant::now();
+    let estimate = crate::guard::Estimate::of(solver, &schedule, fields, options);
+    estimate.check(&schedule, options)?;
+    let mut record = RunRecord {
+        particles: solver.len(),
+        estimate: Some(estimate.clone()),
+        ..Default::default()
+    };
+    if options.dry_run {
+        let mut summary = estimate.to_json();
+        summary.insert("case".into(), json!(meta_str(&meta, "case")));
+        summary.insert("method".into(), json!(solver.method()));
+        summary.insert(
+            "status".into(),
+            json!("dry run: checked and estimated; nothing run or written"),
+        );
+        return Ok((record, summary));
+    }
     let mut writer: Option<Box<dyn ResultWriter>> = match &options.output {
         Some(path) => {
             if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -198,15 +256,18 @@ pub fn drive<D: Dim>(
         }
         None => None,
     };
-    let mut record = RunRecord {
-        particles: solver.len(),
-        ..Default::default()
+    let interrupted = || {
+        options
+            .interrupt
+            .as_ref()
+            .map_or(0, |f| f.load(std::sync::atomic::Ordering::SeqCst))
     };
     let bar = progress_bar(options.progress, schedule.end_time);
     let end = schedule.end_time;
     let eps = 1e-12 * end.max(1e-300);
     let mut next_snapshot = 0.0;
     let mut next_monitor = 0.0;
+    let mut last_snapshot = f64::NEG_INFINITY;
     loop {
         let t = solver.time();
         if t + eps >= next_monitor {
@@ -215,19 +276,39 @@ pub fn drive<D: Dim>(
         }
         if t + eps >= next_snapshot {
             if let Some(w) = writer.as_mut() {
-                write_snapshot(w.as_mut(), solver, fields)?;
+                if let Err(e) = write_snapshot(w.as_mut(), solver, fields) {
+                    record.failure = Some(format!("writing the results: {e}"));
+                    break;
+                }
+                last_snapshot = t;
             }
             next_snapshot = next_event(t, schedule.snapshot_interval, end);
         }
         if t + eps >= end {
             break;
         }
+        let sig = interrupted();
+        if sig != 0 {
+            record.interrupted = Some(sig);
+            break;
+        }
         let target = next_snapshot.min(next_monitor).min(end);
         let t0 = Instant::now();
         let mut failed = None;
-        while solver.time() + eps < target {
-            if let Err(e) = solver.step(target - solver.time()) {
+        while solver.time() + eps < target && interrupted() == 0 {
+            let before = solver.time();
+            if let Err(e) = solver.step(target - before) {
                 failed = Some(e);
+                break;
+            }
+            // A step that does not advance time would repeat for ever.
+            if solver.time().is_nan() || solver.time() <= before {
+                failed = Some(sph_core::Error::TimeStepCollapsed {
+                    dt: solver.time() - before,
+                    min: 0.0,
+                    step: solver.step_count(),
+                    time: before,
+                });
                 break;
             }
         }
@@ -243,6 +324,14 @@ pub fn drive<D: Dim>(
         }
     }
     bar.finish_and_clear();
+    // Interrupted between snapshots: keep the state reached (it is a good one).
+    if record.interrupted.is_some() && record.failure.is_none() && solver.time() > last_snapshot {
+        if let Some(w) = writer.as_mut() {
+            if let Err(e) = write_snapshot(w.as_mut(), solver, fields) {
+                record.failure = Some(format!("writing the results: {e}"));
+            }
+        }
+    }
     record.steps = solver.step_count();
     record.time = solver.time();
     record.wall_seconds = started.elapsed().as_secs_f64();
@@ -250,35 +339,56 @@ pub fn drive<D: Dim>(
     for (k, v) in summarise(solver, &record) {
         summary.insert(k, v);
     }
-    if let Some(mut w) = writer {
-        for p in solver.probes() {
-            let pos: Vec<[f64; 3]> = p
-                .positions
-                .iter()
-                .map(|&x| D::to_vec3(x).to_array())
-                .collect();
-            let vel: Vec<[f64; 3]> = p
-                .velocities
-                .iter()
-                .map(|&x| D::to_vec3(x).to_array())
-                .collect();
-            w.write_probe(&p.name, &p.times, &pos, &vel)?;
+    if let Some(w) = writer {
+        let temp = w.temp_path().to_path_buf();
+        match complete::<D>(w, solver, &summary) {
+            Ok(file) => record.file = Some(file),
+            Err(e) => {
+                let first = record.failure.take();
+                record.failure = Some(format!(
+                    "{}completing the results failed: {e} (what was written is in {})",
+                    first.map(|f| format!("{f}; ")).unwrap_or_default(),
+                    temp.display()
+                ));
+                summary.insert("status".into(), json!(record.status()));
+            }
         }
-        for s in solver.series() {
-            let columns: Vec<(&str, &[f64])> = s
-                .columns
-                .iter()
-                .zip(&s.values)
-                .map(|(c, v)| (c.as_str(), v.as_slice()))
-                .collect();
-            w.write_series(&s.name, &s.time, &columns)?;
-        }
-        w.write_summary(&summary)?;
-        record.file = Some(w.finish()?);
     }
     record.wall_seconds = started.elapsed().as_secs_f64();
     summary.insert("wall_seconds".into(), json!(record.wall_seconds));
     Ok((record, summary))
+}
+
+/// Writes the probes, the series and the summary and finishes the file.
+fn complete<D: Dim>(
+    mut w: Box<dyn ResultWriter>,
+    solver: &dyn Solver<D>,
+    summary: &Map<String, Json>,
+) -> Result<PathBuf, sph_output::OutputError> {
+    for p in solver.probes() {
+        let pos: Vec<[f64; 3]> = p
+            .positions
+            .iter()
+            .map(|&x| D::to_vec3(x).to_array())
+            .collect();
+        let vel: Vec<[f64; 3]> = p
+            .velocities
+            .iter()
+            .map(|&x| D::to_vec3(x).to_array())
+            .collect();
+        w.write_probe(&p.name, &p.times, &pos, &vel)?;
+    }
+    for s in solver.series() {
+        let columns: Vec<(&str, &[f64])> = s
+            .columns
+            .iter()
+            .zip(&s.values)
+            .map(|(c, v)| (c.as_str(), v.as_slice()))
+            .collect();
+        w.write_series(&s.name, &s.time, &columns)?;
+    }
+    w.write_summary(summary)?;
+    w.finish()
 }
 
 fn meta_str(meta: &Map<String, Json>, key: &str) -> String {
@@ -343,7 +453,7 @@ fn write_snapshot<D: Dim>(
     w: &mut dyn ResultWriter,
     solver: &dyn Solver<D>,
     fields: &[&str],
-) -> Result<(), CaseError> {
+) -> Result<(), sph_output::OutputError> {
     let pos: Vec<[f64; 3]> = solver
         .positions()
         .iter()

@@ -159,6 +159,12 @@ fn a_short_run_writes_results_and_summary() {
     assert_eq!(file.summary["case"], "oscillating-plate-2d");
     assert_eq!(file.meta["params"]["resolution"], 4);
     assert!(dir.join("oscillating-plate-2d-tl.xmf").exists());
-    assert!(!dir.join("oscillating-plate-2d-tl.h5.tmp").exists());
+    // No temporary or lock file is left behind.
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp") || n.ends_with(".lock"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -31,7 +31,15 @@
 //! [`ParticleSet::untagged`]). A particle may be in several regions; at most 32 regions per set.
 //! Tags follow their particles through [`ParticleSet::permute`], [`ParticleSet::retain`] and
 //! [`ParticleSet::extend`] (which merges regions by name).
+//!
+//! # Particle budget
+//! Every generator checks the particle budget of [`crate::budget`] before it allocates: the
+//! polar generators compute their count in closed form first, the lattice fill stops as soon as
+//! it would keep one particle too many. Parameters that would need more memory than the budget
+//! (or more than 2³² − 1 particles, or a count that overflows every integer) give
+//! [`Error::TooManyParticles`] with the estimate and the limit, never a panic or an abort.
 
+use crate::budget;
 use crate::dim::{Dim, D2, D3};
 use crate::error::{check_non_negative, check_positive, Error};
 use glam::{DVec2, DVec3};
@@ -533,6 +541,11 @@ impl<D: Dim> Lattice<D> {
             return Err(too_fine(self.dp));
         }
         let centre = |k: usize, n: i64| D::component(self.origin, k) + (n as f64 + 0.5) * self.dp;
+        // The particle budget (crate::budget) is checked as the points are kept, so memory
+        // never grows past it; when it runs out, the count is estimated from the share of
+        // the candidates kept so far.
+        let allowance = budget::remaining::<D>();
+        let mut visited: u64 = 0;
         let mut out = Vec::new();
         for n2 in first[2]..=last[2] {
             for n1 in first[1]..=last[1] {
@@ -542,12 +555,22 @@ impl<D: Dim> Lattice<D> {
                         c[k] = centre(k, n);
                     }
                     let x = D::vector(c);
+                    visited += 1;
                     if shape.contains(x) {
+                        if out.len() as u64 >= allowance {
+                            let estimate =
+                                (out.len() + 1) as f64 * candidates as f64 / visited as f64;
+                            return Err(budget::exceeded::<D>(
+                                estimate,
+                                &format!("the lattice fill at dp = {:?}", self.dp),
+                            ));
+                        }
                         out.push(x);
                     }
                 }
             }
         }
+        budget::book::<D>(out.len() as u64);
         Ok(out)
     }
 }
@@ -907,6 +930,15 @@ fn ring_layers(r_in: f64, r_out: f64, dp: f64) -> (f64, Vec<f64>) {
     (dr, (0..n).map(|k| r_in + (k as f64 + 0.5) * dr).collect())
 }
 
+/// The particle count of [`annulus_polar`] without generating it: `n_r` layers of
+/// `max(1, 2π r_k/dp)` particles, summed in closed form (within `n_r/2` of the exact count of
+/// the rounded layers; any input, also one whose count overflows every integer, is safe).
+fn ring_particle_estimate(r_in: f64, r_out: f64, dp: f64) -> f64 {
+    let layers = ((r_out - r_in) / dp).round().max(1.0);
+    let mid = 0.5 * (r_in + r_out);
+    layers * (2.0 * PI * mid / dp).max(1.0) + 0.5 * layers
+}
+
 /// A 2D ring `r_in ≤ r ≤ r_out` in concentric layers, for bodies whose curved surfaces should be
 /// smooth (rings, pressurised ring).
 ///
@@ -928,6 +960,10 @@ pub fn annulus_polar(
     if !centre.is_finite() {
         return Err(Error::invalid("centre", centre, "finite"));
     }
+    budget::reserve::<D2>(
+        ring_particle_estimate(r_in, r_out, dp),
+        &format!("annulus_polar at dp = {dp:?}"),
+    )?;
     let (dr, radii) = ring_layers(r_in, r_out, dp);
     let mut positions = Vec::new();
     let mut volumes = Vec::new();
@@ -972,9 +1008,19 @@ pub fn tube_polar(
     let axis = axis
         .try_normalize()
         .ok_or_else(|| Error::invalid("axis", axis, "finite and non-zero"))?;
-    let ring = annulus_polar(DVec2::ZERO, r_in, r_out, dp)?;
+    check_positive("dp", dp)?;
+    check_radii(r_in, r_out)?;
+    let slices = (length / dp).round().max(1.0);
+    budget::reserve::<D3>(
+        slices * ring_particle_estimate(r_in, r_out, dp),
+        &format!("tube_polar at dp = {dp:?}"),
+    )?;
+    // The ring itself is a 2D set of one slice's size: booked only through the tube above.
+    let ring = budget::scoped(budget::Budget::unlimited(), || {
+        annulus_polar(DVec2::ZERO, r_in, r_out, dp)
+    })?;
     let (u, w) = axis.any_orthonormal_pair();
-    let nz = (length / dp).round().max(1.0) as usize;
+    let nz = slices as usize;
     let dz = length / nz as f64;
     let mut out = ParticleSet::<D3>::new();
     for m in 0..nz {

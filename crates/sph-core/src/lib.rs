@@ -13,6 +13,7 @@
 // Per-axis loops index several small arrays at once; iterator chains would obscure them.
 #![allow(clippy::needless_range_loop)]
 
+pub mod budget;
 pub mod correction;
 pub mod diagnostics;
 pub mod dim;

@@ -481,6 +481,25 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         }
     }
 
+    /// `C · min(l0/(c + |v|max), √(l0/|a|max))`: what a CFL criterion on the current state
+    /// would allow (the blow-up guard of `step`; NaN if a speed or acceleration is NaN).
+    fn state_dt(&self) -> f64 {
+        let max = |v: &[D::Vector]| {
+            v.par_iter()
+                .map(|&x| D::norm_squared(x))
+                .reduce(|| 0.0, diagnostics::max_or_nan)
+                .sqrt()
+        };
+        let (speed, accel) = (max(&self.velocities), max(&self.accelerations));
+        let acoustic = self.dp / (self.sound_speed + speed);
+        let force = if accel > 0.0 || accel.is_nan() {
+            (self.dp / accel).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        self.params.courant * acoustic.min(force)
+    }
+
     fn check_finite(&self) -> Result<(), Error> {
         diagnostics::check_finite_state::<D>(
             &self.positions,
@@ -489,6 +508,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             self.steps,
             self.time,
         )?;
+        diagnostics::check_jacobians::<D>(&self.deformation, self.steps, self.time)?;
         match first_non_finite::<D>(&self.accelerations) {
             Some(i) => Err(Error::NonFinite {
                 field: "acceleration".into(),
@@ -624,16 +644,14 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
 
     /// One symplectic step of `Δt = min(C l0 / c, max_dt)` (see [`Integrator`]).
     fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
-        let dt = self.stable_dt().min(max_dt);
-        let min_dt = 1e-14 * self.dp / self.sound_speed;
-        if !(dt.is_finite() && dt > min_dt) {
-            return Err(Error::TimeStepCollapsed {
-                dt,
-                min: min_dt,
-                step: self.steps,
-                time: self.time,
-            });
+        // Blow-up guard: the step stays C l0/c (the paper's), but the one a CFL criterion on the
+        // current |v| and |a| would allow must stay above MIN_DT_RATIO of it (as TL's eq 33).
+        let floor = diagnostics::MIN_DT_RATIO * self.stable_dt();
+        diagnostics::check_time_step(self.state_dt(), floor, self.steps, self.time)?;
+        if max_dt.is_nan() || max_dt <= 0.0 {
+            return Err(Error::invalid("max_dt", max_dt, "> 0"));
         }
+        let dt = self.stable_dt().min(max_dt);
         let half = 0.5 * dt;
         match self.params.integrator {
             Integrator::VelocityVerlet => {

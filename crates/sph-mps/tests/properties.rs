@@ -355,9 +355,11 @@ fn invalid_input_is_rejected_naming_the_field() {
 }
 
 #[test]
-fn blow_up_is_reported_as_non_finite() {
+fn blow_up_stops_the_run_with_a_diagnostic() {
     // A Courant number far beyond the stability limit makes the explicit scheme diverge; the
-    // run must stop with NonFinite (not panic, not loop forever).
+    // run must stop with a blow-up diagnostic (not panic, not loop forever). The first sign is
+    // an inverted particle (det F < 0), seen before any value turns non-finite; without the
+    // J check the Saint Venant–Kirchhoff law would go on integrating it.
     let params = MpsParams {
         courant: 5.0,
         ..MpsParams::default()
@@ -375,9 +377,24 @@ fn blow_up_is_reported_as_non_finite() {
         }
     }
     assert!(
-        matches!(err, Some(Error::NonFinite { .. })),
-        "expected NonFinite, got {err:?}"
+        matches!(err, Some(Error::Inverted { jacobian, .. }) if jacobian <= 0.0),
+        "expected Inverted, got {err:?}"
     );
+}
+
+/// A particle thrown at 1000 c0 trips the blow-up guard on the first step: the step a CFL
+/// criterion on |v| would allow is below `MIN_DT_RATIO` of the constant `C l0/c0`.
+#[test]
+fn a_particle_far_faster_than_sound_stops_the_run_as_collapsed() {
+    let mut s = solver_with::<D2, _>([6, 5, 1], svk(), MpsParams::default());
+    let x = s.reference_positions().to_vec();
+    let c0 = sph_materials::Material::<D2>::constants(s.material()).sound_speed;
+    let mut v = vec![D2::zero(); x.len()];
+    v[7] = D2::vector([1000.0 * c0, 0.0, 0.0]);
+    s.set_configuration(x, v).unwrap();
+    let e = s.step(f64::INFINITY).unwrap_err();
+    assert!(matches!(e, Error::TimeStepCollapsed { .. }), "{e:?}");
+    assert_eq!(s.step_count(), 0, "nothing was integrated");
 }
 
 // ----------------------------------------------------------------- 6. pressure, constraints

@@ -105,7 +105,7 @@ impl Default for TlParams {
             cfl: 0.6,
             damping: true,
             correction_min_eigenvalue: DEFAULT_MIN_EIGENVALUE,
-            min_dt_ratio: 1e-3,
+            min_dt_ratio: diagnostics::MIN_DT_RATIO,
             stretch_limited_dt: false,
         }
     }
@@ -732,7 +732,8 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             ("deformation gradient", &self.deformation),
             self.steps,
             self.time,
-        )
+        )?;
+        diagnostics::check_jacobians::<D>(&self.deformation, self.steps, self.time)
     }
 
     /// The shear treatment.

@@ -34,6 +34,7 @@ use crate::stepping::{acoustic_dt, advection_dt, next_substep, Stepping};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
+use sph_core::diagnostics;
 use sph_core::disorder::{affine_fit, disorder_indicator};
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::{apply_permutation, invert_permutation};
@@ -975,12 +976,17 @@ impl<D: Dim> UlSolver<D> {
         if let Some(i) = first_non_finite::<D>(&self.velocities) {
             return Err(fail("velocity", i));
         }
-        if let Some(i) = self
-            .densities
-            .iter()
-            .position(|r| !(r.is_finite() && *r > 0.0))
-        {
+        if let Some(i) = self.densities.iter().position(|r| !r.is_finite()) {
             return Err(fail("density", i));
+        }
+        // J = ρ0/ρ: a density that is not positive is an inverted particle.
+        if let Some(i) = self.densities.iter().position(|&r| r <= 0.0) {
+            return Err(Error::Inverted {
+                particle: self.original_index[i] as usize,
+                jacobian: self.constants.density / self.densities[i],
+                step: self.steps,
+                time: self.time,
+            });
         }
         Ok(())
     }
@@ -1297,11 +1303,12 @@ fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Resul
 }
 
 /// Largest `|v|` over the particles marked free.
+/// Largest `|v|` over the free particles; NaN if any is NaN (so the time-step guard sees it).
 fn max_norm<D: Dim>(v: &[D::Vector], free: &[bool]) -> f64 {
     v.iter()
         .zip(free)
         .map(|(&x, &f)| if f { D::norm_squared(x) } else { 0.0 })
-        .fold(0.0, f64::max)
+        .fold(0.0, diagnostics::max_or_nan)
         .sqrt()
 }
 
@@ -1314,16 +1321,15 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
     /// acoustic sub-steps (eq 22–25) until the advection step is filled exactly. Single
     /// stepping: rebuild, then one acoustic step of `min(Δt_ac, max_dt)`.
     fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
-        let dt = self.stable_dt().min(max_dt);
-        let min_dt = 1e-14 * self.kernel.h() / self.c0;
-        if !(dt.is_finite() && dt > min_dt) {
-            return Err(Error::TimeStepCollapsed {
-                dt,
-                min: min_dt,
-                step: self.steps,
-                time: self.time,
-            });
+        // Blow-up guard (diagnostics::MIN_DT_RATIO of the acoustic step at rest), checked on
+        // the advection step here and on every acoustic sub-step below.
+        let floor = diagnostics::MIN_DT_RATIO
+            * acoustic_dt(self.params.cfl_acoustic, self.kernel.h(), self.c0, 0.0);
+        diagnostics::check_time_step(self.stable_dt(), floor, self.steps, self.time)?;
+        if max_dt.is_nan() || max_dt <= 0.0 {
+            return Err(Error::invalid("max_dt", max_dt, "> 0"));
         }
+        let dt = self.stable_dt().min(max_dt);
         self.rebuild()?;
         let start = self.time;
         match self.params.stepping {
@@ -1337,6 +1343,10 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
                         self.c0,
                         self.max_speed,
                     );
+                    if stable.is_nan() || stable <= floor {
+                        self.check_finite()?;
+                    }
+                    diagnostics::check_time_step(stable, floor, self.steps, self.time)?;
                     let sub = next_substep(stable, dt - elapsed);
                     self.acoustic_step(sub);
                     elapsed += sub;
@@ -1369,6 +1379,16 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
             ),
             Stepping::Single => acoustic_dt(self.params.cfl_acoustic, h, self.c0, self.max_speed),
         }
+    }
+
+    /// The acoustic step of eq 22 (what a dual step is made of).
+    fn substep_dt(&self) -> f64 {
+        acoustic_dt(
+            self.params.cfl_acoustic,
+            self.kernel.h(),
+            self.c0,
+            self.max_speed,
+        )
     }
 
     fn time(&self) -> f64 {

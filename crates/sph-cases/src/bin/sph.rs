@@ -4,17 +4,31 @@
 //! sph list [--verbose]
 //! sph run <case> [--method M] [--set key=value]... [--config case.toml] [--out DIR]
 //!         [--summary FILE.json] [--backend pure|hdf5-metno] [--threads N] [--no-output]
+//!         [--max-memory GIB] [--allow-long-run] [--dry-run]
 //! ```
-//! Exit status: 0 on success, 2 for bad input (nothing is written), 1 when the run failed
-//! mid-way (the results file is completed with what was computed, its summary says why).
+//! Exit status: 0 on success, 2 for bad input (one line on stderr; nothing is written), 1 when
+//! the run failed mid-way (the results file is completed with what was computed, its summary
+//! says why), 128 + the signal (130 for SIGINT, 143 for SIGTERM) when interrupted (the current
+//! step is finished, the file completed with the status `interrupted at t = …`, the summary
+//! written; a second signal ends the process at once). See `docs/reliability.md`.
 
 use clap::{Parser, Subcommand};
 use serde_json::Value as Json;
+use sph_cases::preflight::{write_summary, RunFiles};
+use sph_cases::runner::Interrupt;
 use sph_cases::{all_cases, find_case, resolve_method, CaseError, RunOptions, Value};
+use sph_core::budget::{self, Budget};
 use sph_output::Backend;
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
+#[cfg(unix)]
+use std::sync::atomic::AtomicBool;
+use std::sync::atomic::AtomicUsize;
+use std::sync::Arc;
+
+/// Most worker threads `--threads` accepts.
+const MAX_THREADS: usize = 1024;
 
 #[derive(Parser)]
 #[command(
@@ -36,58 +50,60 @@ enum Command {
         verbose: bool,
     },
     /// Run a case.
-    Run {
-        /// Case name (see `sph list`).
-        case: String,
-        /// Method (default: the case's first method).
-        #[arg(long, short)]
-        method: Option<String>,
-        /// Set a parameter: key=value (repeatable; applied after --config).
-        #[arg(long = "set", short = 's', value_name = "KEY=VALUE")]
-        set: Vec<String>,
-        /// A TOML case file with `key = value` lines (optionally `case`, `method`).
-        #[arg(long)]
-        config: Option<PathBuf>,
-        /// Directory for the results (`<case>-<method>.h5` and `.xmf`).
-        #[arg(long, default_value = "out")]
-        out: PathBuf,
-        /// Do not write HDF5 results.
-        #[arg(long)]
-        no_output: bool,
-        /// Write the run's figures as JSON to this file.
-        #[arg(long)]
-        summary: Option<PathBuf>,
-        /// HDF5 backend: `pure` (default) or `hdf5-metno` (needs the cargo feature).
-        #[arg(long, default_value = "pure")]
-        backend: String,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-    },
+    Run(Box<RunArgs>),
+}
+
+#[derive(clap::Args)]
+struct RunArgs {
+    /// Case name (see `sph list`).
+    case: String,
+    /// Method (default: the case's first method, or the case file's `method`).
+    #[arg(long, short)]
+    method: Option<String>,
+    /// Set a parameter: key=value (repeatable; applied after --config).
+    #[arg(long = "set", short = 's', value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// A TOML case file with `key = value` lines (optionally `case`, `method`).
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Directory for the results (`<case>-<method>.h5` and `.xmf`).
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+    /// Do not write HDF5 results.
+    #[arg(long)]
+    no_output: bool,
+    /// Write the run's figures as JSON to this file.
+    #[arg(long)]
+    summary: Option<PathBuf>,
+    /// HDF5 backend: `pure` (default) or `hdf5-metno` (needs the cargo feature).
+    #[arg(long, default_value = "pure")]
+    backend: String,
+    /// Worker threads, 1 to 1024 (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Memory the run may plan to use, GiB (default: 80 % of the memory available now).
+    #[arg(long, value_name = "GIB")]
+    max_memory: Option<f64>,
+    /// Run even if the estimated work exceeds 10^12 particle-steps (about a day).
+    #[arg(long)]
+    allow_long_run: bool,
+    /// Build the scene, check everything and print the estimates; run and write nothing.
+    #[arg(long)]
+    dry_run: bool,
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::List { verbose } => {
-            list(verbose);
-            ExitCode::SUCCESS
-        }
-        Command::Run {
-            case,
-            method,
-            set,
-            config,
-            out,
-            no_output,
-            summary,
-            backend,
-            threads,
-        } => match run(
-            case, method, set, config, out, no_output, summary, backend, threads,
-        ) {
-            Ok(true) => ExitCode::SUCCESS,
-            Ok(false) => ExitCode::from(1),
+        Command::List { verbose } => match print_out(&list(verbose)) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: writing the list: {e}");
+                ExitCode::from(1)
+            }
+        },
+        Command::Run(args) => match run(*args) {
+            Ok(code) => code,
             Err(e) => {
                 eprintln!("error: {e}");
                 ExitCode::from(2)
@@ -96,10 +112,23 @@ fn main() -> ExitCode {
     }
 }
 
-fn list(verbose: bool) {
+/// Writes `text` to stdout. A reader that closed the pipe early (`sph list | head -1`) is not
+/// an error: it has what it wanted.
+fn print_out(text: &str) -> std::io::Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => r,
+    }
+}
+
+fn list(verbose: bool) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
     for case in all_cases() {
         let info = case.info();
-        println!(
+        let _ = writeln!(
+            s,
             "{:<24} {:<38} {}",
             info.name,
             info.methods.join(","),
@@ -115,7 +144,7 @@ fn list(verbose: bool) {
             let value = |p: &sph_cases::params::Params, key: &str| p.value(key).map(show);
             for p in base.specs() {
                 let v = value(&base, p.key).unwrap_or_default();
-                println!("    {:<20} = {:<14} {}", p.key, v, p.help);
+                let _ = writeln!(s, "    {:<20} = {:<14} {}", p.key, v, p.help);
             }
             // Defaults that another method's paper sets differently.
             for m in info.methods.iter().skip(1) {
@@ -123,7 +152,8 @@ fn list(verbose: bool) {
                 for p in base.specs() {
                     let b = value(&other, p.key);
                     if value(&base, p.key) != b {
-                        println!(
+                        let _ = writeln!(
+                            s,
                             "    {:<20} = {:<14} with --method {m}",
                             p.key,
                             b.unwrap_or_default()
@@ -133,25 +163,41 @@ fn list(verbose: bool) {
             }
         }
     }
+    s
 }
 
-#[allow(clippy::too_many_arguments)]
-fn run(
-    case_name: String,
-    method: Option<String>,
-    set: Vec<String>,
-    config: Option<PathBuf>,
-    out: PathBuf,
-    no_output: bool,
-    summary_path: Option<PathBuf>,
-    backend: String,
-    threads: Option<usize>,
-) -> Result<bool, CaseError> {
-    let case = find_case(&case_name)?;
-    let mut method = method;
+/// SIGINT and SIGTERM set the returned flag to their number; the run stops after its current
+/// step. A second signal takes the default action (the process ends at once). signal-hook
+/// rather than ctrlc: it tells the signals apart (exit 130 vs 143) and offers that
+/// second-signal escape without a handler thread.
+#[cfg(unix)]
+fn install_signal_handlers() -> Result<Interrupt, CaseError> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    use signal_hook::flag;
+    let which: Interrupt = Arc::new(AtomicUsize::new(0));
+    let seen = Arc::new(AtomicBool::new(false));
+    let fail = |e: std::io::Error| CaseError::Config(format!("installing signal handlers: {e}"));
+    for sig in [SIGINT, SIGTERM] {
+        // Order matters: the check for an earlier signal runs before this one is recorded.
+        flag::register_conditional_default(sig, Arc::clone(&seen)).map_err(fail)?;
+        flag::register(sig, Arc::clone(&seen)).map_err(fail)?;
+        flag::register_usize(sig, Arc::clone(&which), sig as usize).map_err(fail)?;
+    }
+    Ok(which)
+}
+
+/// Elsewhere the signals keep their default; the flag is never set.
+#[cfg(not(unix))]
+fn install_signal_handlers() -> Result<Interrupt, CaseError> {
+    Ok(Arc::new(AtomicUsize::new(0)))
+}
+
+fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
+    let case = find_case(&a.case)?;
+    let mut method = a.method.clone();
     // The method decides the defaults (`Case::params_for`), so it is resolved before the
     // configuration file and the assignments are applied on top of its defaults.
-    let toml = match &config {
+    let toml = match &a.config {
         Some(path) => {
             let text = std::fs::read_to_string(path).map_err(|e| CaseError::Io {
                 path: path.display().to_string(),
@@ -161,15 +207,23 @@ fn run(
                 .params()
                 .apply_toml(&text, &path.display().to_string())?;
             if let Some(c) = extras.case {
-                if c != case_name {
+                if c != a.case {
                     return Err(CaseError::Config(format!(
-                        "{}: names case `{c}` but `{case_name}` was asked for",
-                        path.display()
+                        "{}: names case `{c}` but `{}` was asked for",
+                        path.display(),
+                        a.case
                     )));
                 }
             }
-            if method.is_none() {
-                method = extras.method;
+            match (&method, extras.method) {
+                (Some(m), Some(t)) if *m != t => {
+                    return Err(CaseError::Config(format!(
+                        "{}: method = \"{t}\" contradicts --method {m}; drop one of them",
+                        path.display()
+                    )))
+                }
+                (None, t) => method = t,
+                _ => {}
             }
             Some((text, path.display().to_string()))
         }
@@ -180,21 +234,39 @@ fn run(
     if let Some((text, name)) = &toml {
         params.apply_toml(text, name)?;
     }
-    for a in &set {
-        params.apply_assignment(a)?;
+    for s in &a.set {
+        params.apply_assignment(s)?;
     }
-    let backend: Backend = backend.parse()?;
+    let backend: Backend = a.backend.parse()?;
     if !backend.is_available() {
         return Err(CaseError::Config(format!(
             "backend `{backend}` needs sph built with `--features hdf5-metno`"
         )));
     }
-    if let Some(n) = threads {
-        if n == 0 {
+    let budget = match a.max_memory {
+        Some(gib) if gib.is_finite() && gib > 0.0 && gib <= 1e9 => Budget::with_limit(
+            (gib * (1u64 << 30) as f64) as u64,
+            format!("--max-memory {gib}"),
+        ),
+        Some(gib) => {
+            return Err(CaseError::InvalidValue {
+                key: "--max-memory".into(),
+                value: gib.to_string(),
+                allowed: "GiB, 0 < --max-memory <= 1e9".into(),
+            })
+        }
+        None => {
+            let b = Budget::from_available_memory();
+            let origin = format!("{}; --max-memory GIB overrides it", b.origin);
+            Budget { origin, ..b }
+        }
+    };
+    if let Some(n) = a.threads {
+        if !(1..=MAX_THREADS).contains(&n) {
             return Err(CaseError::InvalidValue {
                 key: "threads".into(),
-                value: "0".into(),
-                allowed: "at least 1".into(),
+                value: n.to_string(),
+                allowed: format!("1 <= threads <= {MAX_THREADS}"),
             });
         }
         rayon::ThreadPoolBuilder::new()
@@ -202,47 +274,68 @@ fn run(
             .build_global()
             .map_err(|e| CaseError::Config(format!("thread pool: {e}")))?;
     }
+    let results = (!a.no_output).then(|| a.out.join(format!("{}-{}", case.info().name, method)));
+    let mut inputs = Vec::new();
+    if let Some(c) = &a.config {
+        inputs.push(("--config".to_string(), c.clone()));
+    }
+    if let Ok(exe) = std::env::current_exe() {
+        inputs.push(("the sph program".to_string(), exe));
+    }
+    RunFiles {
+        results: results.clone(),
+        summary: a.summary.clone(),
+        inputs,
+    }
+    .check()?;
     let options = RunOptions {
-        output: (!no_output).then(|| out.join(format!("{}-{}", case.info().name, method))),
+        output: results,
         backend,
         progress: std::io::stderr().is_terminal(),
+        allow_long_run: a.allow_long_run,
+        dry_run: a.dry_run,
+        interrupt: Some(install_signal_handlers()?),
     };
-    let (record, summary) = case.run(method, &params, &options)?;
-    if let Some(path) = &summary_path {
+    let (record, summary) = budget::scoped(budget, || case.run(method, &params, &options))?;
+    if let (Some(path), false) = (&a.summary, a.dry_run) {
         let text = serde_json::to_string_pretty(&Json::Object(summary.clone()))
             .expect("summary serialises");
-        write_atomically(path, &text)?;
+        if let Err(e) = write_summary(path, &text) {
+            // The run is done and its results are written: report, and fail the exit status.
+            eprintln!("error: writing the summary: {e}");
+            if record.failure.is_none() && record.interrupted.is_none() {
+                return Ok(ExitCode::from(1));
+            }
+        }
     }
+    let mut text = String::new();
     for (k, v) in &summary {
         match v {
             // Curves and histories: in the summary file and the HDF5 results, not the console.
-            Json::Array(_) | Json::Object(_) if k != "monitor" && v.to_string().len() > 160 => {
-                println!("{k:<28} (a curve or table: see --summary or /summary in the results)")
-            }
+            Json::Array(_) | Json::Object(_) if k != "monitor" && v.to_string().len() > 160 => text
+                .push_str(&format!(
+                    "{k:<28} (a curve or table: see --summary or /summary in the results)\n"
+                )),
             _ if k == "monitor" => {}
-            v => println!("{k:<28} {v}"),
+            v => text.push_str(&format!("{k:<28} {v}\n")),
         }
     }
     if let Some(f) = &record.file {
-        println!("{:<28} {}", "results", f.display());
+        text.push_str(&format!("{:<28} {}\n", "results", f.display()));
+    }
+    if let Err(e) = print_out(&text) {
+        eprintln!("error: writing to stdout: {e}");
     }
     if let Some(e) = &record.failure {
         eprintln!("error: the run stopped early: {e}");
-        return Ok(false);
+        return Ok(ExitCode::from(1));
     }
-    Ok(true)
-}
-
-fn write_atomically(path: &PathBuf, text: &str) -> Result<(), CaseError> {
-    let io = |e| CaseError::Io {
-        path: path.display().to_string(),
-        source: e,
-    };
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(io)?;
+    if let Some(sig) = record.interrupted {
+        eprintln!(
+            "stopped: {}; the results hold everything up to there",
+            record.status()
+        );
+        return Ok(ExitCode::from((128 + sig).min(255) as u8));
     }
-    let mut tmp = path.as_os_str().to_os_string();
-    tmp.push(".tmp");
-    std::fs::write(&tmp, text).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(io)
+    Ok(ExitCode::SUCCESS)
 }

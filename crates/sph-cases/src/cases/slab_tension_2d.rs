@@ -94,6 +94,18 @@ impl Case for SlabTension2d {
         let shape = Aabb::<D2>::new(lo, -lo)?;
         let mut set = ParticleSet::fill(&Lattice::<D2>::new(dp, lo)?, &shape)?;
         let w = p.f64("strip_width");
+        // Each strip must hold a column of particles and leave the slab between them free.
+        if !(w > 0.5 * dp && w < 0.5 * l) {
+            return Err(CaseError::InvalidValue {
+                key: "strip_width".into(),
+                value: w.to_string(),
+                allowed: format!(
+                    "dp/2 = {:?} < strip_width < length/2 = {:?}",
+                    0.5 * dp,
+                    0.5 * l
+                ),
+            });
+        }
         set.tag_where("left", |_, x| x.x < -0.5 * l + w)?;
         set.tag_where("right", |_, x| x.x > 0.5 * l - w)?;
         set.tag_where("middle", |_, x| x.x.abs() < l / 6.0)?;

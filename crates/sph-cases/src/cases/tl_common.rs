@@ -135,6 +135,10 @@ pub fn schedule(p: &Params, end_time: f64) -> Schedule {
         } else {
             end_time / 200.0
         },
+        probe_interval: match p.value("probe_interval") {
+            Some(crate::params::Value::Float(x)) => *x,
+            _ => 0.0,
+        },
     }
 }
 

@@ -50,13 +50,13 @@ pub fn ul_params() -> Vec<Param> {
         Param::float(
             "ul_cfl_acoustic",
             0.4,
-            Range::Positive,
+            Range::Open(0.0, 1.0),
             "CFL_ac of eq 22: Δt_ac = CFL_ac h/(c0 + |v|max)",
         ),
         Param::float(
             "ul_cfl_advection",
             0.2,
-            Range::Positive,
+            Range::Open(0.0, 1.0),
             "CFL_ad of eq 21: Δt_ad = CFL_ad h/|v|max",
         ),
         Param::bool(
@@ -180,6 +180,9 @@ pub fn run_ul<D: Dim>(
         options,
         summarise,
     )?;
+    if options.dry_run {
+        return Ok((record, summary));
+    }
     // Throughput counts force evaluations: with dual stepping one `step` is an advection step
     // made of several acoustic sub-steps, so `steps` alone would flatter single stepping.
     let acoustic = solver.acoustic_step_count();
