@@ -168,3 +168,32 @@ fn a_short_run_writes_results_and_summary() {
     assert!(left.is_empty(), "{left:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_run_without_a_terminal_logs_its_progress_to_stderr() {
+    // stderr is a pipe here; a tiny interval makes every report a line.
+    let (code, _, err) = sph(&[
+        "run",
+        "oscillating-plate-2d",
+        "--set",
+        "end_time=0.005",
+        "--no-output",
+        "--log-every",
+        "1e-9",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("t = ")).collect();
+    assert!(lines.len() >= 2, "{err}");
+    assert!(lines.last().unwrap().contains("(100.0 %)"), "{err}");
+    assert!(lines[0].contains("particle-steps/s"), "{err}");
+    // And none by default for a run this short.
+    let (code, _, err) = sph(&[
+        "run",
+        "oscillating-plate-2d",
+        "--set",
+        "end_time=0.005",
+        "--no-output",
+    ]);
+    assert_eq!(code, 0);
+    assert!(!err.contains("t = "), "{err}");
+}

@@ -13,9 +13,10 @@
 //! written; a second signal ends the process at once). See `docs/reliability.md`.
 
 use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::Value as Json;
 use sph_cases::preflight::{write_summary, RunFiles};
-use sph_cases::runner::Interrupt;
+use sph_cases::runner::{Interrupt, Progress, ProgressSink};
 use sph_cases::{all_cases, find_case, resolve_method, CaseError, RunOptions, Value};
 use sph_core::budget::{self, Budget};
 use sph_output::Backend;
@@ -90,6 +91,10 @@ struct RunArgs {
     /// Build the scene, check everything and print the estimates; run and write nothing.
     #[arg(long)]
     dry_run: bool,
+    /// When stderr is not a terminal: a progress line to stderr every this many seconds of
+    /// wall time (0: none). On a terminal a progress bar is drawn instead.
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    log_every: f64,
 }
 
 fn main() -> ExitCode {
@@ -291,7 +296,7 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
     let options = RunOptions {
         output: results,
         backend,
-        progress: std::io::stderr().is_terminal(),
+        progress: progress_display(std::io::stderr().is_terminal(), a.log_every)?,
         allow_long_run: a.allow_long_run,
         dry_run: a.dry_run,
         interrupt: Some(install_signal_handlers()?),
@@ -338,4 +343,71 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
         return Ok(ExitCode::from((128 + sig).min(255) as u8));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The progress display: a bar on a terminal; otherwise a line on stderr every `log_every`
+/// seconds of wall time (and at the end), so a batch job's log shows where the run is.
+fn progress_display(terminal: bool, log_every: f64) -> Result<Option<ProgressSink>, CaseError> {
+    if !(log_every.is_finite() && log_every >= 0.0) {
+        return Err(CaseError::InvalidValue {
+            key: "--log-every".into(),
+            value: log_every.to_string(),
+            allowed: "seconds >= 0 (0: no log lines)".into(),
+        });
+    }
+    const SCALE: f64 = 1e6;
+    if terminal {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr_with_hz(4));
+        bar.set_style(
+            ProgressStyle::with_template("{bar:30} t = {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        return Ok(Some(ProgressSink::new(move |p: &Progress| {
+            if p.finished {
+                bar.finish_and_clear();
+                return;
+            }
+            bar.set_length((p.end_time * SCALE) as u64);
+            bar.set_position((p.time * SCALE) as u64);
+            bar.set_message(format!(
+                "{:.4} / {:.4} s  {:.3e} particle-steps/s",
+                p.time,
+                p.end_time,
+                p.particle_steps_per_second()
+            ));
+        })));
+    }
+    if log_every == 0.0 {
+        return Ok(None);
+    }
+    let last = std::sync::Mutex::new(0.0f64);
+    Ok(Some(ProgressSink::new(move |p: &Progress| {
+        let mut last = last.lock().unwrap_or_else(|e| e.into_inner());
+        // A line every `log_every` seconds, and a last one at the end of a run that printed
+        // any (a short run prints none).
+        let due = if p.finished {
+            *last > 0.0
+        } else {
+            p.wall_seconds - *last >= log_every
+        };
+        if !due {
+            return;
+        }
+        *last = p.wall_seconds;
+        let done = (p.time / p.end_time).clamp(0.0, 1.0);
+        let eta = if done > 0.0 {
+            format!("{:.0} s", p.wall_seconds * (1.0 - done) / done)
+        } else {
+            "–".into()
+        };
+        eprintln!(
+            "t = {:.6e} / {:.6e} s ({:.1} %), {} steps, {:.3e} particle-steps/s, {:.0} s elapsed, ETA {eta}",
+            p.time,
+            p.end_time,
+            100.0 * done,
+            p.steps,
+            p.particle_steps_per_second(),
+            p.wall_seconds
+        );
+    })))
 }

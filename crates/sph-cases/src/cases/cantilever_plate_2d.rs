@@ -219,14 +219,14 @@ fn run_tl_plate(
         "guarded_particles".into(),
         json!(solver.guarded_particles()),
     );
-    drive::<D2>(
+    Ok(drive::<D2>(
         &mut solver,
         m,
         schedule(p, end_time),
         TL_FIELDS,
         options,
         summarise,
-    )
+    )?)
 }
 
 /// Period (mean over the full periods of the tip's vertical motion about y = 0), amplitude

@@ -108,12 +108,12 @@ where
         json!(solver.guarded_particles()),
     );
     meta.insert("re".into(), json!(solver.re()));
-    drive::<D>(
+    Ok(drive::<D>(
         &mut solver,
         meta,
         schedule(p, end_time),
         MPS_FIELDS,
         options,
         summarise,
-    )
+    )?)
 }

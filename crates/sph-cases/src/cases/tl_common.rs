@@ -175,12 +175,12 @@ where
         "guarded_particles".into(),
         json!(solver.guarded_particles()),
     );
-    drive::<D>(
+    Ok(drive::<D>(
         &mut solver,
         meta,
         schedule(p, end_time),
         TL_FIELDS,
         options,
         summarise,
-    )
+    )?)
 }

@@ -16,8 +16,8 @@
 //! for catching absurd inputs (`end_time = 1e300`, `snapshot_interval = 1e-300`), not a
 //! schedule. The particle count itself was checked by the generators (`sph_core::budget`).
 
-use crate::error::CaseError;
-use crate::runner::{RunOptions, Schedule};
+use crate::error::DriverError;
+use crate::run::{RunOptions, Schedule};
 use serde_json::{json, Map, Value as Json};
 use sph_core::budget::{self, format_bytes, format_count};
 use sph_core::{Dim, Field, Solver};
@@ -120,10 +120,10 @@ impl Estimate {
 
     /// Checks the estimates against the limits (see the module documentation); the first that
     /// fails is the error.
-    pub fn check(&self, schedule: &Schedule, options: &RunOptions) -> Result<(), CaseError> {
+    pub fn check(&self, schedule: &Schedule, options: &RunOptions) -> Result<(), DriverError> {
         let end = schedule.end_time;
         let bad = |key: &str, value: f64, allowed: String| {
-            Err(CaseError::InvalidValue {
+            Err(DriverError::InvalidValue {
                 key: key.into(),
                 value: format!("{value:?}"),
                 allowed,
@@ -181,7 +181,7 @@ impl Estimate {
             );
         }
         if !(self.step.is_finite() && self.step > 0.0) {
-            return Err(CaseError::Config(format!(
+            return Err(DriverError::Config(format!(
                 "the initial state gives a time step of {:e} s: an initial speed or load far \
                  beyond the sound speed (the run would stop at once as collapsed)",
                 self.step
@@ -194,14 +194,14 @@ impl Estimate {
             self.step
         );
         if self.steps > MAX_STEPS {
-            return Err(CaseError::Config(format!(
+            return Err(DriverError::Config(format!(
                 "{needs}, more than the {MAX_STEPS:e} after which the time variable no longer \
                  resolves the step; allowed: end_time <= {:.3e}",
                 MAX_STEPS * self.step
             )));
         }
         if self.particle_steps > MAX_PARTICLE_STEPS && !options.allow_long_run {
-            return Err(CaseError::Config(format!(
+            return Err(DriverError::Config(format!(
                 "{needs} for {} particles, ≈ {:.1e} particle-steps, more than the \
                  {MAX_PARTICLE_STEPS:e} (about a day) a run may take unconfirmed: end_time <= \
                  {:.3e} runs as it is; pass --allow-long-run to run it anyway",
