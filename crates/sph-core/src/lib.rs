@@ -13,6 +13,7 @@
 // Per-axis loops index several small arrays at once; iterator chains would obscure them.
 #![allow(clippy::needless_range_loop)]
 
+pub mod body;
 pub mod budget;
 pub mod correction;
 pub mod diagnostics;
@@ -28,6 +29,7 @@ pub mod scene;
 pub mod solver;
 pub mod tool;
 
+pub use body::Body;
 pub use dim::{Dim, D2, D3};
 pub use error::Error;
 pub use kernel::{Kernel, WendlandC2};

@@ -25,4 +25,4 @@ pub mod wls;
 
 pub use contact::Contact;
 pub use pressure::{PressureFunction, SurfacePressure};
-pub use solver::{Energy, Integrator, MpsBody, MpsParams, MpsSolver};
+pub use solver::{Energy, Integrator, MpsParams, MpsSolver};

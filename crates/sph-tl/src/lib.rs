@@ -21,4 +21,4 @@ pub mod hourglass_free;
 pub mod original;
 pub mod solver;
 
-pub use solver::{Energy, Shear, TlBody, TlParams, TlSolver};
+pub use solver::{Energy, Shear, TlParams, TlSolver};

@@ -42,5 +42,5 @@ pub mod stepping;
 
 pub use non_nested::LaplacianForm;
 pub use riemann::RiemannScheme;
-pub use solver::{Energy, Shear, UlBody, UlParams, UlSolver};
+pub use solver::{Energy, Shear, UlParams, UlSolver};
 pub use stepping::Stepping;

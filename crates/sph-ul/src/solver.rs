@@ -42,7 +42,7 @@ use sph_core::pairs::{fill_pair_kernels, pair_kernels};
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::{
-    CellGrid, Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe,
+    Body, CellGrid, Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe,
     Solver, StepInfo, WendlandC2,
 };
 use sph_materials::{von_mises, ElasticConstants};
@@ -178,21 +178,6 @@ impl Default for UlParams {
     }
 }
 
-/// The particles of one body in their initial configuration.
-#[derive(Clone, Debug)]
-pub struct UlBody<D: Dim> {
-    /// Initial positions.
-    pub positions: Vec<D::Vector>,
-    /// Initial volumes `V⁰` (masses are `ρ0 V⁰`).
-    pub volumes: Vec<f64>,
-    /// Initial particle spacing `dp` (sets h).
-    pub dp: f64,
-    /// Initial velocities (empty = at rest).
-    pub velocities: Vec<D::Vector>,
-    /// Initial densities (empty = `ρ0` everywhere; otherwise a pre-pressurised state).
-    pub densities: Vec<f64>,
-}
-
 /// Kinetic and elastic energy of the body.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Energy {
@@ -309,18 +294,13 @@ impl<D: Dim> UlSolver<D> {
     /// non-finite positions or velocities, or a particle without neighbours
     /// ([`Error::TooFewNeighbours`]).
     pub fn new(
-        body: UlBody<D>,
+        body: impl Into<Body<D>>,
         constants: ElasticConstants,
         shear: Shear,
         params: UlParams,
     ) -> Result<Self, Error> {
-        let n = body.positions.len();
-        if n == 0 {
-            return Err(Error::EmptyBody {
-                body: "ul body".into(),
-            });
-        }
-        check_positive("dp", body.dp)?;
+        let body: Body<D> = body.into();
+        body.validate("ul body")?;
         check_positive("h_over_dp", params.h_over_dp)?;
         check_positive("cfl_advection", params.cfl_advection)?;
         check_positive("cfl_acoustic", params.cfl_acoustic)?;
@@ -330,33 +310,9 @@ impl<D: Dim> UlSolver<D> {
             params.correction_min_eigenvalue,
         )?;
         shear.validate()?;
-        check_per_particle("volumes", &body.volumes, n, false)?;
+        let n = body.len();
         check_per_particle("densities", &body.densities, n, true)?;
-        if let Some(i) = first_non_finite::<D>(&body.positions) {
-            return Err(Error::invalid(
-                &format!("positions[{i}]"),
-                format!("{:?}", body.positions[i]),
-                "finite",
-            ));
-        }
-        let velocities = if body.velocities.is_empty() {
-            vec![D::zero(); n]
-        } else if body.velocities.len() == n {
-            body.velocities
-        } else {
-            return Err(Error::invalid(
-                "velocities",
-                body.velocities.len(),
-                &format!("empty or one per particle ({n})"),
-            ));
-        };
-        if let Some(i) = first_non_finite::<D>(&velocities) {
-            return Err(Error::invalid(
-                &format!("velocities[{i}]"),
-                format!("{:?}", velocities[i]),
-                "finite",
-            ));
-        }
+        let velocities = body.velocities_or_rest();
         let rho0 = constants.density;
         let kernel = WendlandC2::<D>::from_spacing(body.dp, params.h_over_dp)?;
         let variant = match shear {
@@ -456,7 +412,7 @@ impl<D: Dim> UlSolver<D> {
     }
 
     /// Attaches the constraints. Particle indices refer to the body's **original** order (the
-    /// order of [`UlBody::positions`]); they are remapped to the current order and at every
+    /// order of [`Body::positions`]); they are remapped to the current order and at every
     /// reordering. Constrained particles are excluded from the time-step maxima.
     pub fn with_constraints(mut self, mut constraints: Constraints<D>) -> Self {
         constraints.remap(&self.inverse_index());

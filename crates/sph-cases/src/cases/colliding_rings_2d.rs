@@ -46,9 +46,10 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{annulus_polar, ParticleSet};
+use sph_core::Body;
 use sph_core::{Field, Probe, Solver, D2};
 use sph_materials::{ElasticConstants, MaterialKind};
-use sph_mps::{Contact, MpsBody};
+use sph_mps::Contact;
 
 /// Two colliding rings, MPS.
 pub struct CollidingRings2d;
@@ -207,7 +208,7 @@ impl Case for CollidingRings2d {
         let body_of: Vec<u32> = (0..set.len()).map(|i| u32::from(i >= nl)).collect();
         if ul {
             let constants = ElasticConstants::from_bulk_shear(k, mu, rho)?;
-            let body = sph_ul::UlBody::<D2> {
+            let body = Body::<D2> {
                 positions: pos,
                 volumes: set.volumes().to_vec(),
                 dp,
@@ -232,11 +233,12 @@ impl Case for CollidingRings2d {
         }
         let c = ElasticConstants::from_bulk_shear(k, mu, rho)?;
         let mat = MaterialKind::SaintVenantKirchhoff.build(c)?;
-        let body = MpsBody::<D2> {
+        let body = Body::<D2> {
             positions: pos,
             volumes: set.volumes().to_vec(),
             dp,
             velocities,
+            densities: Vec::new(),
         };
         let contact = contact.then(|| Contact {
             body_of,

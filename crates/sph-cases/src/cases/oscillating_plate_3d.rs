@@ -17,6 +17,7 @@ use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Probe, Solver, D3};
 use sph_materials::{Material, MaterialKind};
 
@@ -114,7 +115,7 @@ impl Case for OscillatingPlate3d {
                 )
             })
             .collect();
-        let body = sph_ul::UlBody::<D3> {
+        let body = Body::<D3> {
             positions: set.positions().to_vec(),
             volumes: set.volumes().to_vec(),
             dp,

@@ -6,9 +6,10 @@ use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::{drive, RunOptions, RunRecord};
 use serde_json::{json, Map, Value as Json};
+use sph_core::Body;
 use sph_core::{Dim, Solver};
 use sph_materials::ElasticConstants;
-use sph_ul::{LaplacianForm, RiemannScheme, Shear, Stepping, UlBody, UlParams, UlSolver};
+use sph_ul::{LaplacianForm, RiemannScheme, Shear, Stepping, UlParams, UlSolver};
 
 /// The UL methods.
 pub const UL_METHODS: &[&str] = &["ul-enog", "ul-og", "ul-oas"];
@@ -157,7 +158,7 @@ pub fn run_ul<D: Dim>(
     case: &str,
     method: &str,
     p: &Params,
-    body: UlBody<D>,
+    body: Body<D>,
     constants: ElasticConstants,
     attach: impl FnOnce(UlSolver<D>) -> Result<UlSolver<D>, CaseError>,
     end_time: f64,
