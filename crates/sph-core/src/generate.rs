@@ -826,6 +826,19 @@ impl<D: Dim> ParticleSet<D> {
             .is_some_and(|bit| self.tags.get(i).is_some_and(|t| t & bit != 0))
     }
 
+    /// Indices (ascending) of the particles whose position satisfies `pred` (a region chosen
+    /// by a condition rather than a [`Shape`]).
+    pub fn select(&self, pred: impl Fn(D::Vector) -> bool) -> Vec<u32> {
+        (0..self.len() as u32)
+            .filter(|&i| pred(self.positions[i as usize]))
+            .collect()
+    }
+
+    /// Indices (ascending) of the particles inside `shape`.
+    pub fn inside(&self, shape: &dyn Shape<D>) -> Vec<u32> {
+        self.select(|x| shape.contains(x))
+    }
+
     fn indices_where(&self, f: impl Fn(u32) -> bool) -> Vec<u32> {
         self.tags
             .iter()

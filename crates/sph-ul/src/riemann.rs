@@ -18,12 +18,13 @@ pub enum RiemannScheme {
     /// that do not move (a density diffusion of strength ~`c0 h`, first order at free
     /// surfaces). In a solid the density is the volumetric strain, so this is a volumetric
     /// creep: the oscillating plate (ENOG, H/dp = 10) runs 24 % slow (T = 0.346 against 0.279
-    /// without the jump; 0.330 against 0.273 at H/dp = 20). The UL cases default to
-    /// [`RiemannScheme::SphinxsysTests`].
-    #[default]
+    /// without the jump; 0.330 against 0.273 at H/dp = 20). Hence the default is
+    /// [`RiemannScheme::SphinxsysTests`], in the library as in the cases.
     Paper,
-    /// What SPHinXsys's elastic-solid tests actually ran (METHODS.md): `β = 1` in the momentum
-    /// equation (dissipation in compression and expansion) and no pressure jump in continuity.
+    /// What SPHinXsys's elastic-solid tests actually ran: `β = 1` in the momentum equation
+    /// (dissipation in compression and expansion) and no pressure jump in continuity. The
+    /// default (library and command line).
+    #[default]
     SphinxsysTests,
     /// The paper's limiter `β` in the momentum equation, no pressure jump in continuity (the
     /// density then changes only through motion).

@@ -127,7 +127,8 @@ pub struct UlParams {
     /// Floor of `|v|max` in eq 21, as a fraction of `c0` (0.01: at most `20 h/c0`, i.e. 50
     /// acoustic sub-steps, per advection step for a body nearly at rest).
     pub speed_floor: f64,
-    /// Riemann solver form (the paper's by default).
+    /// Riemann solver form (default: SPHinXsys's solid tests, β = 1 and no pressure jump; see
+    /// [`RiemannScheme`]).
     pub riemann: RiemannScheme,
     /// Correct the velocity gradient with `B` (eq 26) in OG/OAS too. Default false: the paper's
     /// eq 14 has none, and only the uncorrected gradient makes the OG pair (eq 13–14)
@@ -167,7 +168,7 @@ impl Default for UlParams {
             cfl_advection: 0.2,
             cfl_acoustic: 0.4,
             speed_floor: 0.01,
-            riemann: RiemannScheme::Paper,
+            riemann: RiemannScheme::SphinxsysTests,
             corrected_velocity_gradient: false,
             track_shear_stress: true,
             reorder: true,
