@@ -8,7 +8,8 @@
 //!
 //! This crate gathers the workspace's crates under one name and offers a [`prelude`] with what
 //! a scene needs: shapes and generators, bodies, materials, the solvers, constraints, loads,
-//! probes, rigid tools, and the run loop that writes HDF5 results ([`driver::Run`]).
+//! probes, rigid tools, and the run loop that writes HDF5 results ([`driver::Run`]). Scenes can
+//! also be written as TOML files ([`scene`]) and run by `sph run scene.toml`.
 //!
 //! ```
 //! use sph_solids::prelude::*;
@@ -35,6 +36,7 @@ pub use sph_driver as driver;
 pub use sph_materials as materials;
 pub use sph_mps as mps;
 pub use sph_output as output;
+pub use sph_scene as scene;
 pub use sph_tl as tl;
 pub use sph_ul as ul;
 
@@ -57,6 +59,7 @@ pub mod prelude {
         NeoHookean, SaintVenantKirchhoff,
     };
     pub use sph_mps::{Contact as MpsContact, MpsParams, MpsSolver};
+    pub use sph_scene::Scene;
     pub use sph_tl::{Shear as TlShear, TlParams, TlSolver};
     pub use sph_ul::{Shear as UlShear, Stepping, UlParams, UlSolver};
 }
