@@ -38,6 +38,9 @@ E_MOD = 1.0e9
 NU = 0.45
 MU = E_MOD / (2.0 * (1.0 + NU))
 LAM = NU * E_MOD / ((1.0 + NU) * (1.0 - 2.0 * NU))
+# the volumetric part -mu ln J + lam/2 (ln J)^2 is convex in J only for ln J < 1 + mu/lam:
+# beyond J = 3.03 (nu = 0.45) the model itself loses stability (local runaway expansion)
+J_CONVEXITY_LIMIT = math.exp(1.0 + MU / LAM)
 
 
 def homogeneous_plane_strain(lam_y: float, mu: float = MU, lam: float = LAM):

@@ -99,7 +99,9 @@ class Pulling:
             mid_y = 0.0
         side_x = pr.boundary_curve(u, self.sides, 8)[0][0]
         a, a0 = pr.area_integral(u)
-        out = {"force": float(force), "neck_width": float(width / WP),
+        F = pr.deformation_gradient(u)
+        jmax = float(np.max(F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]))
+        out = {"force": float(force), "neck_width": float(width / WP), "max_J": jmax,
                "min_width": float(2 * np.min(np.abs(side_x)) / WP) if not self.full else
                float((np.min(side_x[side_x > 0]) - np.max(side_x[side_x < 0])) / WP),
                "area_change": float(a / a0 - 1.0)}
@@ -218,7 +220,7 @@ def main():
                          "stats": info["stats"]})
         for lam in targets:
             vals = {k: [r.get(lam, {}).get(k) for _, r, _, _ in per_level]
-                    for k in ("force", "neck_width", "min_width", "area_change")}
+                    for k in ("force", "neck_width", "min_width", "area_change", "max_J")}
             if all(v is None for v in vals["force"]):
                 continue
             finest = [(lev, lines) for lev, r, lines, _ in per_level if lam in r][-1]
@@ -243,6 +245,7 @@ def main():
            "mesh_study": {"levels": list(levels), "refinement_ratio": 2,
                           "base": f"quarter {BASE_N}x{BASE_N} cells, graded 4:1 toward the "
                                   "clamped corner, P2 triangles"},
+           "convexity_limit_J": C.J_CONVEXITY_LIMIT,
            "checks": checks, "runs": runs, "entries": entries,
            "total_seconds": clock()}
     if a.quick:

@@ -141,8 +141,6 @@ class Punching:
         """Deformed outer boundary of the whole strip, closed, counter-clockwise, from
         (0, -H/2) (metres). Quarter model: mirrored."""
         pr = self.pr
-        if self.full:
-            pts = pr.polyline(u, self.outer, lambda x, y: False, nsub=2) if False else None
         facets = self.outer
         order, fwd = pr.boundary_chain(facets, self._start_pred())
         pts, _, _ = pr.boundary_curve(u, order, 2)
@@ -150,7 +148,8 @@ class Punching:
         line = [pts[:, 0, 0]] + [pts[:, k, j] for k in range(pts.shape[1]) for j in (1, 2)]
         line = np.array(line)
         if self.full:
-            return line
+            area = 0.5 * np.sum(line[:-1, 0] * line[1:, 1] - line[1:, 0] * line[:-1, 1])
+            return line if area > 0 else line[::-1]
         # quarter chain runs from (0, H/2) along the top to the side and down to (W/2, 0)
         if line[0, 0] > line[-1, 0]:
             line = line[::-1]
@@ -162,7 +161,7 @@ class Punching:
 
     def _start_pred(self):
         if self.full:
-            return lambda x, y: False
+            return lambda x, y: abs(x) < 1e-12 and abs(y + H / 2) < 1e-12
         return lambda x, y: abs(x) < 1e-12 and abs(y - H / 2) < 1e-12
 
 
