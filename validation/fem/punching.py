@@ -257,6 +257,8 @@ def main():
         res, lines, info = run_path(lev, COMPRESSIONS)
         log(f"pw = W, level {lev}: {info['dofs']} dofs, band element {band_h(lev) * 1e6:.1f} um, "
             f"reached c = {info['reached']:.4g} in {info['seconds']:.0f} s {info['stats']}")
+        for c, v in res.items():
+            log(f"  level {lev} c = {c}: " + ", ".join(f"{k} {x:.7g}" for k, x in v.items()))
         per_level.append((lev, res, lines, info))
         runs.append({"punch_width": W, "level": lev, "dofs": info["dofs"],
                      "elements": info["elements"], "band_element_edge_m": band_h(lev),
