@@ -518,7 +518,9 @@ fn quasi_static_section(md: &mut String) {
 /// else the finest mesh's.
 fn fem_value(file: &Value, matches: &dyn Fn(&Value) -> bool, quantity: &str) -> Option<f64> {
     let entries = file.get("entries")?.as_array()?;
-    let e = entries.iter().find(|e| e.get("params").is_some_and(matches))?;
+    let e = entries
+        .iter()
+        .find(|e| e.get("params").is_some_and(matches))?;
     let q = e.get(quantity)?;
     q.get("extrapolated")
         .and_then(Value::as_f64)
@@ -629,9 +631,7 @@ fn fem_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Str
     if let Some(file) = &punching {
         let pts: Vec<(f64, f64)> = cs
             .iter()
-            .filter_map(|&c| {
-                Some((c, fem_value(file, &punching_entry(c), "force")?))
-            })
+            .filter_map(|&c| Some((c, fem_value(file, &punching_entry(c), "force")?)))
             .collect();
         if !pts.is_empty() {
             plot.push(Series {

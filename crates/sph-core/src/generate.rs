@@ -12,7 +12,7 @@
 //! # Cell-centred lattice
 //! [`Lattice`] with spacing `dp` and origin `o` places particle candidates at cell centres
 //! `o + (n + ½) dp` per axis (`n` any integer) and [`ParticleSet::fill`] keeps the candidates the
-//! shape contains, each with volume `V = dp^d` (METHODS.md: `V⁰ = dp^d`).
+//! shape contains, each with volume `V = dp^d` (docs/methods.md: `V⁰ = dp^d`).
 //!
 //! Membership is decided at cell centres, which lie half a spacing away from every lattice-cell
 //! face. When a body's boundaries lie on cell faces (choose `o` on a corner of the body and

@@ -7,7 +7,7 @@
 //! frictionless contact ([`tool`]), quasi-static relaxation ([`relaxation`]), the particle
 //! disorder indicator ([`disorder`]), and the [`solver::Solver`] trait.
 //!
-//! Conventions (METHODS.md): particle `i`, neighbour `j`; `x_ij = x_i − x_j`, `e_ij = x_ij/r_ij`
+//! Conventions (docs/methods.md): particle `i`, neighbour `j`; `x_ij = x_i − x_j`, `e_ij = x_ij/r_ij`
 //! points from `j` to `i`; `∇_i W_ij = W′(r_ij) e_ij` with `W′ ≤ 0`.
 #![deny(missing_docs)]
 // Per-axis loops index several small arrays at once; iterator chains would obscure them.

@@ -12,7 +12,7 @@
 //!   weights and `A_i⁻¹` are fixed) and the symplectic time step (velocity Verlet by default,
 //!   the paper's symplectic Euler of eq 8 as an option), `Δt = C l0 / c`.
 //!
-//! Conventions (METHODS.md, "Hamiltonian particle model"): `X_ij = X_j − X_i`,
+//! Conventions (docs/methods.md, "Hamiltonian particle model"): `X_ij = X_j − X_i`,
 //! `x_ij = x_j − x_i` (the opposite of the SPH crates' `x_i − x_j`), so that eq 4–7 read as
 //! printed. Loops are gathers over each particle's own neighbours, parallel with rayon, so results
 //! do not depend on the thread schedule.

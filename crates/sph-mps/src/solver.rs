@@ -42,7 +42,7 @@ pub enum Integrator {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MpsParams {
     /// Radius of the weight of eq 6 over the initial spacing, `r_e / l0` (> 1). Default 2.1, the
-    /// usual MPS gradient radius (METHODS.md range 2.1–3.1): 12 neighbours in 2D and 32 in 3D on
+    /// usual MPS gradient radius (docs/methods.md range 2.1–3.1): 12 neighbours in 2D and 32 in 3D on
     /// a lattice.
     pub re_over_l0: f64,
     /// Courant number `C` of `Δt = C l0 / c`, `c = √(K/ρ0)` (> 0). Default 0.1 (see the crate's
@@ -573,7 +573,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         Energy { kinetic, strain }
     }
 
-    /// The disorder indicator of METHODS.md per particle, with the MPS weights of eq 6 in
+    /// The disorder indicator of docs/methods.md per particle, with the MPS weights of eq 6 in
     /// place of the kernel (`e_i = Σ_j w_ij |F_i X_ij − x_ij| / Σ_j w_ij |X_ij|`).
     pub fn disorder(&self) -> Vec<f64> {
         disorder_indicator::<D>(

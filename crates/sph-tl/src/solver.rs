@@ -769,7 +769,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         Energy { kinetic, strain }
     }
 
-    /// The disorder indicator of METHODS.md per particle.
+    /// The disorder indicator of docs/methods.md per particle.
     pub fn disorder(&self) -> Vec<f64> {
         disorder_indicator::<D>(
             &self.list,

@@ -443,7 +443,7 @@ fn angular_drift<D: Dim>(shear: Shear, k: usize, frac: f64) -> f64 {
 /// Δt, 2D and 3D (printed); bound 1e-12.
 ///
 /// HF: not conserved, by construction of the method. Its remaining stress τ_r (eq 28,
-/// isotropic part of size ζG, plus damping) is differentiated *without* B (METHODS.md: required
+/// isotropic part of size ζG, plus damping) is differentiated *without* B (docs/methods.md: required
 /// for the exact rest state of test 2), and `Σ_j V_j x_ij ⊗ ∇⁰W_ij = −F_i M_i` has an
 /// antisymmetric part (after multiplying by τ_r F⁻ᵀ) wherever `M_i ≠ cI`, i.e. in the boundary
 /// layer; the central shear term of eq 27 does not compensate. That torque depends on the

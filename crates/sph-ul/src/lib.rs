@@ -18,12 +18,12 @@
 //! (eq 23–25) inside the dual-criteria time stepping of §5 (eq 21–22), see [`stepping`] and
 //! [`solver`]: neighbour lists and the correction matrix are rebuilt only at advection steps and
 //! frozen over the acoustic sub-steps, the kernel data over that list are refreshed every
-//! sub-step (`UlParams::refresh_kernel_data`; METHODS.md freezes them too, which softens a long
+//! sub-step (`UlParams::refresh_kernel_data`; docs/methods.md freezes them too, which softens a long
 //! oscillation secularly); particles are reordered in cell order
 //! at every rebuild ([`UlSolver::original_index`] maps back to the input order).
 //!
 //! Separate bodies: [`UlSolver::with_contact`] splits the particles into bodies that keep their
-//! own neighbours and meet through METHODS.md's contact pressure (repulsive, antisymmetric per
+//! own neighbours and meet through docs/methods.md's contact pressure (repulsive, antisymmetric per
 //! pair, so momentum is conserved). Without it every particle belongs to one body, and colliding
 //! parts of one material meet through the ordinary neighbour search, as Gray et al. did.
 //!

@@ -1,5 +1,5 @@
 //! Equation of state and the low-dissipation Riemann solver for pressure and continuity
-//! (UL paper eq 4, 11–12; METHODS.md "Updated Lagrangian").
+//! (UL paper eq 4, 11–12; docs/methods.md "Updated Lagrangian").
 //!
 //! Convention: `e_ij = (x_i − x_j)/r_ij` points from `j` to `i`; `u_ij = (v_i − v_j)·e_ij` is
 //! negative when `i` and `j` approach. `W′ ≤ 0`, so `−P* W′ e_ij` pushes `i` away from `j` for
@@ -37,7 +37,7 @@ pub fn pressure(rho: f64, rho0: f64, c0: f64) -> f64 {
     c0 * c0 * (rho - rho0)
 }
 
-/// Low-dissipation limiter of the Riemann solver (UL paper ref. [28], METHODS.md):
+/// Low-dissipation limiter of the Riemann solver (UL paper ref. 28):
 /// `β = min(3 max(−u_ij, 0)/c0, 1)`; zero for separating pairs (`u_ij ≥ 0`).
 #[inline(always)]
 pub fn limiter(u_ij: f64, c0: f64) -> f64 {
@@ -71,7 +71,7 @@ pub fn pressure_pair_factor(p_star: f64, dw: f64, v_j_over_rho_i: f64) -> f64 {
     -2.0 * p_star * dw * v_j_over_rho_i
 }
 
-/// Pair term of the continuity equation, eq. (11) of the UL paper in the form of METHODS.md:
+/// Pair term of the continuity equation, eq. (11) of the UL paper in the form of docs/methods.md:
 /// `dρ_i/dt = ρ_i Σ_j [u_ij + (p_i − p_j)/(ρ0 c0)] W′_ij V_j`. Returns the bracket; the
 /// pressure jump (a pressure excess at `i` slows its density growth) is dropped for
 /// [`RiemannScheme::SphinxsysTests`].

@@ -144,7 +144,7 @@ pub struct UlParams {
     pub reorder: bool,
     /// Recompute the pair kernel data (`e_ij`, `r_ij`, `W`, `W′`) from the half-step positions
     /// in every acoustic sub-step, over the neighbour list of the last rebuild (the list, the
-    /// cell list and `B` stay those of the rebuild). Default **on**. Off is METHODS.md's scheme
+    /// cell list and `B` stay those of the rebuild). Default **on**. Off is docs/methods.md's scheme
     /// (the data of the rebuild serve the whole advection step), which makes the 2D plate
     /// (ENOG, H/dp = 10, v_f = 0.05) soften secularly: its period grows 0.278 → 0.298 s within
     /// 3 s and 0.277 → 0.366 s within 10 s, the amplitude growing with it; with the refresh the
@@ -435,7 +435,7 @@ impl<D: Dim> UlSolver<D> {
     }
 
     /// Makes the particles separate bodies (`body_of[i]` for input particle `i`) that meet
-    /// through contact (METHODS.md, SPHinXsys): each body keeps its own neighbours (pressure,
+    /// through contact (docs/methods.md, SPHinXsys): each body keeps its own neighbours (pressure,
     /// shear, continuity and `B` see only the own body), and particles of different bodies
     /// closer than the kernel support push each other apart with the contact pressure
     /// `p_c = c0² ρ_c`, `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,
@@ -1088,12 +1088,12 @@ impl<D: Dim> UlSolver<D> {
         }
     }
 
-    /// The disorder indicator of METHODS.md per particle (current order), accumulated since the
+    /// The disorder indicator of docs/methods.md per particle (current order), accumulated since the
     /// start: Ganzenmüller's error of the weighted least-squares affine fit from the initial
     /// configuration to the current one, over the current neighbours with weights `W⁰` of the
     /// initial distances (neighbours that were not neighbours initially get `W⁰ = 0`).
     ///
-    /// METHODS.md suggests the fit over the last advection step for UL; that measures the
+    /// docs/methods.md suggests the fit over the last advection step for UL; that measures the
     /// non-affine *increment* of one step (≤ 3·10⁻⁴ on the plate whether or not it is ordered)
     /// and misses a zigzag pattern once it has formed, so the accumulated form is reported;
     /// [`UlSolver::disorder_increment`] gives the per-step form.
@@ -1116,7 +1116,7 @@ impl<D: Dim> UlSolver<D> {
 
     /// The per-step disorder indicator: the affine fit of the motion since the last rebuild
     /// (the last advection step for dual stepping, the last acoustic step for single stepping)
-    /// over the neighbours of that rebuild (METHODS.md's UL form).
+    /// over the neighbours of that rebuild (docs/methods.md's UL form).
     pub fn disorder_increment(&self) -> Vec<f64> {
         let f = affine_fit::<D>(
             &self.list,

@@ -1,4 +1,4 @@
-//! CASES.md 5: the bending column (TL paper §4.4, Fig. 9–12).
+//! Benchmark case 5: the bending column (TL paper §4.4, Fig. 9–12).
 //!
 //! A neo-Hookean column of cross-section H × H and length L along z, clamped at its bottom:
 //! `clamp_layers` extra layers of particles below z = 0 are held fixed (they are not counted in

@@ -1,4 +1,4 @@
-//! CASES.md 17: the MPS paper's oscillating cantilever plate (§IV.D, Fig. 4–5, Table I).
+//! Benchmark case 17: the MPS paper's oscillating cantilever plate (§IV.D, Fig. 4–5, Table I).
 //!
 //! Free length `L = 0.2`, thickness `H = 0.02`; the plate continues `base_length = 0.04` to the
 //! left (total 0.24 m, as in the paper) where it is held between bearings: the held segment and

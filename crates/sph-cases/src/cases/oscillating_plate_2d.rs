@@ -1,4 +1,4 @@
-//! CASES.md 1: the oscillating plate (TL paper §4.1, Fig. 2; UL paper §6.1).
+//! Benchmark case 1: the oscillating plate (TL paper §4.1, Fig. 2; UL paper §6.1).
 //!
 //! A plate strip of free length `L` and thickness `H` (centred on y = 0) continues into a
 //! clamping base: the strip extends `base_length` into the base and the base adds
@@ -262,7 +262,7 @@ mod tests {
 
     #[test]
     fn thin_plate_periods_match_cases_md() {
-        // CASES.md: T = 0.27009 (ν=0.22), 0.26412 (0.30), 0.25406 (0.3975), 0.25376 (0.40);
+        // the papers: T = 0.27009 (ν=0.22), 0.26412 (0.30), 0.25406 (0.3975), 0.25376 (0.40);
         // printed to 5 digits, so 5e-5 relative.
         for (nu, t) in [
             (0.22, 0.27009),

@@ -1,4 +1,4 @@
-//! CASES.md 9: the simply supported square plate (UL paper §6.2, Fig. 8, eq 31–33).
+//! Benchmark case 9: the simply supported square plate (UL paper §6.2, Fig. 8, eq 31–33).
 //!
 //! Plate L × W × H (0.4 × 0.4 × 0.01), ρ = 1000, E = 1e8, ν = 0.3. Simple supports: the
 //! particles at mid-thickness of the four lateral sides (the outermost column of particles on
@@ -177,7 +177,7 @@ mod tests {
 
     #[test]
     fn periods_match_cases_md() {
-        // CASES.md: 0.05322 (1,1), 0.02129 (2,1), 0.01331 (2,2); 4 digits printed → 1e-3.
+        // the papers: 0.05322 (1,1), 0.02129 (2,1), 0.01331 (2,2); 4 digits printed → 1e-3.
         for (mode, t) in [
             ((1.0, 1.0), 0.05322),
             ((2.0, 1.0), 0.02129),

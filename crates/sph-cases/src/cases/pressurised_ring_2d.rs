@@ -1,4 +1,4 @@
-//! CASES.md 14: the rubber ring under internal pressure (MPS paper §IV.A, Fig. 1; after
+//! Benchmark case 14: the rubber ring under internal pressure (MPS paper §IV.A, Fig. 1; after
 //! Rabczuk, Belytschko & Xiao 2004).
 //!
 //! Mooney–Rivlin-like law of MPS eq 12 with the paper's `c1 = 1.265e5`, `c2 = 1.012e4`,

@@ -1,4 +1,4 @@
-//! CASES.md 4: the pulling cylinder (TL paper §4.3, Fig. 8).
+//! Benchmark case 4: the pulling cylinder (TL paper §4.3, Fig. 8).
 //!
 //! A rubber cylinder of `radius` and `height` along z (centred at the origin), neo-Hookean with
 //! ν = 0.49, whose top and bottom slices of particles are clamped and pulled apart at

@@ -1,4 +1,4 @@
-//! CASES.md 3: the pulling strip (TL paper §4.3, Fig. 7).
+//! Benchmark case 3: the pulling strip (TL paper §4.3, Fig. 7).
 //!
 //! A rubber square `size × size` (centred at the origin), neo-Hookean, whose top and bottom
 //! `grip_rows` particle rows are pulled apart at `±pull_speed` (smooth start, then a hold; see

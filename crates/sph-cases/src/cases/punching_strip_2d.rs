@@ -1,4 +1,4 @@
-//! CASES.md 2: the punching strip (TL paper §4.2, Fig. 5–6).
+//! Benchmark case 2: the punching strip (TL paper §4.2, Fig. 5–6).
 //!
 //! A rubber strip `width × height` (centred at the origin), neo-Hookean, compressed between two
 //! rigid punches of `punch_width × punch_thickness` that start touching its top and bottom faces

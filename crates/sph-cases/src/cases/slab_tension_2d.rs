@@ -1,4 +1,4 @@
-//! CASES.md 15: a slab in pure tension (MPS paper §IV.B, Fig. 2).
+//! Benchmark case 15: a slab in pure tension (MPS paper §IV.B, Fig. 2).
 //!
 //! Slab 3 cm × 1 cm (centred on the origin), SVK with `K = 3.25e6`, `μ = 7.15e5`, `ρ = 1000`.
 //! The particles in the end strips 0.2 cm wide are moved with the prescribed velocity

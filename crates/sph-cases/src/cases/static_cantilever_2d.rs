@@ -1,4 +1,4 @@
-//! CASES.md 18: static equilibrium of a cantilever beam under a tip load (MPS paper §IV.E,
+//! Benchmark case 18: static equilibrium of a cantilever beam under a tip load (MPS paper §IV.E,
 //! Fig. 6).
 //!
 //! Beam `L × H = 0.16 × 0.02` (x from 0 to L, centred on y = 0), `dp = H/resolution`

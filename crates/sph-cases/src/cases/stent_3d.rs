@@ -1,4 +1,4 @@
-//! CASES.md 7: a Palmaz–Schatz-like stent (TL paper §4.6, Fig. 19–21).
+//! Benchmark case 7: a Palmaz–Schatz-like stent (TL paper §4.6, Fig. 19–21).
 //!
 //! # Geometry (procedural; the paper's CAD file is not available)
 //! A slotted tube in its expanded state: a thin-walled tube of `length` L, outer `diameter` D
