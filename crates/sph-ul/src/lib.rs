@@ -31,6 +31,26 @@
 //! depend on the thread schedule. Acoustic sub-steps allocate only small scratch (the row
 //! slices of the kernel-data refresh, the contact buffer); rebuilds reuse or replace their own
 //! buffers.
+//!
+//! ```
+//! use glam::DVec2;
+//! use sph_core::generate::annulus_polar;
+//! use sph_core::{Body, Solver};
+//! use sph_materials::ElasticConstants;
+//! use sph_ul::{Shear, UlParams, UlSolver};
+//!
+//! // A rubber disc flying at 1 m/s: `step` is one advection step of the dual-criteria scheme
+//! // (several acoustic sub-steps), so it advances by `0.2 h / |v|max`.
+//! let set = annulus_polar(DVec2::ZERO, 0.0, 0.01, 1e-3)?;
+//! let body = Body::from(set).with_velocity(|_| DVec2::new(1.0, 0.0));
+//! let c = ElasticConstants::from_youngs(1e7, 0.4, 1200.0)?;
+//! let mut s = UlSolver::new(body, c, Shear::non_nested(), UlParams::default())?;
+//! let info = s.step(f64::INFINITY)?;
+//! assert!(s.acoustic_step_count() > 1 && info.time > 0.0);
+//! // Momentum is conserved to round-off.
+//! assert!((s.linear_momentum().x - 1.0 * s.masses().iter().sum::<f64>()).abs() < 1e-12);
+//! # Ok::<(), sph_core::Error>(())
+//! ```
 #![deny(missing_docs)]
 
 pub mod artificial_stress;
