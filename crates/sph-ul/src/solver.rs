@@ -285,6 +285,8 @@ pub struct UlSolver<D: Dim> {
     time: f64,
     steps: u64,
     acoustic_steps: u64,
+    /// Pairs visited by the force evaluations so far ([`Solver::pair_visits`]).
+    pair_visits: u64,
     rebuilds: u64,
     max_speed: f64,
 }
@@ -399,6 +401,7 @@ impl<D: Dim> UlSolver<D> {
             time: 0.0,
             steps: 0,
             acoustic_steps: 0,
+            pair_visits: 0,
             rebuilds: 0,
             max_speed: 0.0,
         };
@@ -904,6 +907,7 @@ impl<D: Dim> UlSolver<D> {
         }
         self.max_speed = max_norm::<D>(&self.velocities, &self.free);
         self.acoustic_steps += 1;
+        self.pair_visits += (self.list.num_pairs() + self.contact_list.num_pairs()) as u64;
     }
 
     /// `x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt` (eq 23 and 25).
@@ -1349,6 +1353,10 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
 
     fn time(&self) -> f64 {
         self.time
+    }
+
+    fn pair_visits(&self) -> Option<u64> {
+        Some(self.pair_visits)
     }
 
     fn step_count(&self) -> u64 {
