@@ -237,23 +237,64 @@ pub(crate) fn with_suffix(p: &Path, suffix: &str) -> PathBuf {
     PathBuf::from(s)
 }
 
+/// How a writer stores datasets.
+///
+/// With [`Compression::Deflate`] every dataset of at least 1 KiB is stored in chunks of whole
+/// rows (about 1 MiB each) through the HDF5 `shuffle` and `deflate` (zlib) filters, which
+/// every HDF5 reader decodes transparently (h5py, the C library, hence ParaView and meshio);
+/// smaller datasets stay contiguous. Values are unchanged, bit for bit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum Compression {
+    /// Contiguous, uncompressed datasets. The default.
+    #[default]
+    None,
+    /// Shuffle + deflate at this zlib level, 1 (fastest) to 9 (smallest).
+    Deflate(u8),
+}
+
+impl Compression {
+    /// `Deflate(level)` for a level in 1..=9, else an error naming the allowed range.
+    pub fn deflate(level: u8) -> Result<Self, OutputError> {
+        if (1..=9).contains(&level) {
+            Ok(Compression::Deflate(level))
+        } else {
+            Err(OutputError::InvalidCompression { level })
+        }
+    }
+}
+
 /// Starts a results file `<path_without_ext>.h5`, written to a temporary file of its own until
 /// [`ResultWriter::finish`]. Fails before writing anything if the destination may not be
 /// replaced ([`safety::check_results_destination`]) or another writer holds its lock. An
-/// existing `.h5` is replaced only by `finish`. The parent directory must exist.
+/// existing `.h5` is replaced only by `finish`. The parent directory must exist. Datasets are
+/// stored uncompressed; see [`create_writer_with`].
 pub fn create_writer(
     path_without_ext: &Path,
     backend: Backend,
 ) -> Result<Box<dyn ResultWriter>, OutputError> {
+    create_writer_with(path_without_ext, backend, Compression::None)
+}
+
+/// [`create_writer`] with a choice of dataset [`Compression`].
+pub fn create_writer_with(
+    path_without_ext: &Path,
+    backend: Backend,
+    compression: Compression,
+) -> Result<Box<dyn ResultWriter>, OutputError> {
+    if let Compression::Deflate(level) = compression {
+        Compression::deflate(level)?;
+    }
     match backend {
         Backend::Pure => Ok(Box::new(writer::LayoutWriter::new(
             path_without_ext,
             pure::PureSink::create,
+            compression,
         )?)),
         #[cfg(feature = "hdf5-metno")]
         Backend::Metno => Ok(Box::new(writer::LayoutWriter::new(
             path_without_ext,
             metno::MetnoSink::create,
+            compression,
         )?)),
         #[cfg(not(feature = "hdf5-metno"))]
         Backend::Metno => Err(OutputError::BackendUnavailable {
