@@ -7,7 +7,7 @@ use crate::error::DriverError;
 use serde_json::{json, Map, Value as Json};
 use sph_core::disorder::DisorderStats;
 use sph_core::{Dim, Field, Solver};
-use sph_output::{create_writer, Backend, Dataset, ResultWriter};
+use sph_output::{create_writer_with, Backend, Compression, Dataset, ResultWriter};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -64,6 +64,9 @@ pub struct RunOptions {
     pub output: Option<PathBuf>,
     /// HDF5 backend.
     pub backend: Backend,
+    /// Dataset compression (none by default; `Compression::Deflate(level)` for shuffle +
+    /// deflate, which every HDF5 reader decodes).
+    pub compression: Compression,
     /// Where to report progress (nothing when `None`).
     pub progress: Option<ProgressSink>,
     /// Run even if the estimated work exceeds [`crate::guard::MAX_PARTICLE_STEPS`].
@@ -80,12 +83,20 @@ pub struct RunOptions {
 /// A flag a signal handler sets to the signal's number (0: not interrupted).
 pub type Interrupt = std::sync::Arc<std::sync::atomic::AtomicUsize>;
 
+/// Snapshots a run writes by default after the initial one (the `sph` command's `snapshots`
+/// key): an interval of `end_time / DEFAULT_SNAPSHOTS`, 51 frames. 50 divides the default
+/// monitor rate (`end_time/200`) by a power of two, so these snapshot times are monitor times
+/// exactly and the snapshots do not change the step sequence of a run.
+pub const DEFAULT_SNAPSHOTS: u32 = 50;
+
 /// When things happen during a run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Schedule {
     /// Simulated end time.
     pub end_time: f64,
-    /// Interval between snapshots (0: only the first and the last).
+    /// Interval between snapshots: one at t = 0, at every multiple of it and at the end time
+    /// (0: only the first and the last; `end_time /` [`DEFAULT_SNAPSHOTS`] is the default of
+    /// the `sph` command).
     pub snapshot_interval: f64,
     /// Interval between samples of the disorder indicator and the energies.
     pub monitor_interval: f64,
@@ -269,7 +280,7 @@ pub fn drive<D: Dim>(
                     source: e,
                 })?;
             }
-            let mut w = create_writer(path, options.backend)?;
+            let mut w = create_writer_with(path, options.backend, options.compression)?;
             w.write_meta(&meta)?;
             Some(w)
         }
@@ -486,8 +497,20 @@ fn write_snapshot<D: Dim>(
         .iter()
         .map(|&x| D::to_vec3(x).to_array())
         .collect();
-    let mut sets = vec![Dataset::vectors("position", &pos)];
+    let ids: Vec<u64> = solver
+        .particle_ids()
+        .iter()
+        .map(|&i| u64::from(i))
+        .collect();
+    let mut sets = vec![
+        Dataset::vectors("position", &pos),
+        Dataset::u64_scalars("id", &ids),
+    ];
     for &name in fields {
+        // `id` is the solver's, never a field of the same name.
+        if name == "id" {
+            continue;
+        }
         if let Some(f) = solver.field(name) {
             sets.push(field_dataset::<D>(name, f));
         }
