@@ -14,9 +14,12 @@
 //! | `/summary` | one attribute per key of the run's summary plus `json`, the whole map as a JSON string |
 //!
 //! and a sidecar `<name>.xmf` (XDMF 3): a temporal collection of the snapshots, each a
-//! `Polyvertex` topology whose `XYZ` geometry is the snapshot's `position` dataset and whose
-//! other per-particle datasets are node attributes (`Scalar`, `Vector`, `Tensor`, … by shape,
-//! see [`xdmf`]). Open the `.xmf` in ParaView (reader "XDMF Reader" / "Xdmf3ReaderT").
+//! `Polyvertex` topology with its connectivity (the snapshot's `id` dataset when that is a
+//! permutation of `0..n`, else an inline list), an `XYZ` geometry from the snapshot's
+//! `position` dataset, and every per-particle dataset as a node attribute (`Scalar`, `Vector`,
+//! `Tensor`, … by shape, see [`xdmf`]). ParaView ("XDMF Reader" / "Xdmf3 Reader S/T"), VTK and
+//! meshio read it. The run driver (`sph-driver`) writes `position` and an integer `id` (u64,
+//! the particle's index in the input body) in every snapshot.
 //!
 //! # Dimension conventions
 //!
@@ -65,7 +68,9 @@
 //! [`Backend::Pure`] (the default) uses the pure-Rust `hdf5-pure` crate (pinned exactly), so
 //! nothing beyond the Rust toolchain is needed; it is also what [`read_file`] uses.
 //! [`Backend::Metno`] uses the HDF5 C library through `hdf5-metno` and exists only with the
-//! cargo feature `hdf5-metno`. Both write the same layout and the same datatypes.
+//! cargo feature `hdf5-metno`. Both write the same layout and the same datatypes, and both
+//! honour [`Compression`] with the same chunks and filters ([`create_writer_with`]; the C
+//! backend refuses it if its library lacks the deflate filter).
 //!
 //! # Example
 //!
