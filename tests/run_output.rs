@@ -152,7 +152,7 @@ fn compression_is_honoured_or_refused() {
         (run("level10").compress(10), "1 (fastest) to 9"),
         (Run::until(1e-4).compress(4), "no results file"),
     ] {
-        let e = run.execute(&mut solver()).err().expect("refused");
+        let e = run.execute(&mut solver()).expect_err("refused");
         assert!(
             e.to_string().contains("compression") && e.to_string().contains(what),
             "{e}"
