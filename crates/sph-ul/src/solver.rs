@@ -1371,6 +1371,11 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         &self.velocities
     }
 
+    /// [`UlSolver::original_index`]: the input index of each particle in the current order.
+    fn particle_ids(&self) -> std::borrow::Cow<'_, [u32]> {
+        std::borrow::Cow::Borrowed(&self.original_index)
+    }
+
     fn field_names(&self) -> Vec<&'static str> {
         vec![
             "velocity",
