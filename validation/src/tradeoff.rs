@@ -223,7 +223,7 @@ fn sweeps() -> Vec<Sweep> {
         },
         Sweep {
             key: "rings-v0",
-            title: "Colliding rings, impact speed v0/c0 (UL: dp 1 mm; MPS: the MPS paper's set-up)",
+            title: "Colliding rings, impact speed v0/c0 (UL, dp 1 mm, contact on)",
             case: "colliding-rings-2d",
             methods: &["ul-og", "ul-oas", "ul-enog"],
             fixed: &["v0_unit=c0", "contact=true"],
@@ -645,10 +645,11 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
             },
             _ => (
                 slope_order(&s).map_or("–".into(), |p| {
+                    let n = if s.len() < 3 { " (from 2 points)" } else { "" };
                     if p > 0.0 {
-                        format!("{p:.2}")
+                        format!("{p:.2}{n}")
                     } else {
-                        format!("{p:.2} (error grows with resolution)")
+                        format!("{p:.2} (error grows with resolution){n}")
                     }
                 }),
                 "(closed form)".into(),
