@@ -12,10 +12,12 @@
 //! progress bar or log lines.
 #![deny(missing_docs)]
 
+pub mod checkpoint;
 pub mod error;
 pub mod guard;
 pub mod run;
 
+pub use checkpoint::{Checkpoint, CheckpointPlan, Every};
 pub use error::DriverError;
 pub use run::{
     drive, field_dataset, finite_or_null, signal_name, Interrupt, MonitorSample, Progress,
