@@ -245,7 +245,7 @@ pub fn write(
 ) -> Result<(), DriverError> {
     let mut w = StateWriter::new();
     w.str(&run.to_string());
-    w.str(&Json::Object(meta.clone()).to_string());
+    w.str(&serde_json::to_string(meta).unwrap_or_default());
     write_driver(&mut w, driver);
     w.bytes(solver);
     let body = w.into_bytes();
@@ -266,6 +266,20 @@ pub fn write(
     let mut tmp = TempFile::beside(path, true)?;
     tmp.write_all(&bytes)?;
     tmp.persist(path)?;
+    // The rename itself is durable once the directory is synced.
+    #[cfg(unix)]
+    {
+        let dir = match path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            Some(d) => d.to_path_buf(),
+            None => PathBuf::from("."),
+        };
+        std::fs::File::open(&dir)
+            .and_then(|d| d.sync_all())
+            .map_err(|e| DriverError::Io {
+                path: dir.display().to_string(),
+                source: e,
+            })?;
+    }
     Ok(())
 }
 

@@ -453,7 +453,7 @@ fn restore<D: Dim>(
     let fail = |what: String| {
         DriverError::Config(format!("checkpoint {}: {what}", checkpoint.path.display()))
     };
-    if Json::Object(meta.clone()).to_string() != checkpoint.meta_text {
+    if serde_json::to_string(meta).unwrap_or_default() != checkpoint.meta_text {
         let differing: Vec<&str> = meta
             .keys()
             .chain(checkpoint.meta.keys())

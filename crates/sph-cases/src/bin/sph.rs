@@ -490,7 +490,8 @@ fn resume_job(c: &Checkpoint) -> Result<(Job, Settings), CaseError> {
             })?;
             if format!("{:016x}", fnv1a64(&bytes)) != text("scene_checksum")? {
                 return Err(CaseError::Config(format!(
-                    "checkpoint {}: the scene file {file} has changed since the checkpoint was                      written; a resumed run must build the same scene",
+                    "checkpoint {}: the scene file {file} has changed since the checkpoint was \
+                     written; a resumed run must build the same scene",
                     c.path.display()
                 )));
             }
