@@ -693,7 +693,8 @@ const CLASSES: &[Class] = &[
         item: "checkpoints",
         class: "`--checkpoint-every` 0, -1, `nan`, `5 minutes`; `--checkpoint` without it; \
                 `--checkpoint` naming the `--config` file, the results, the summary, a \
-                directory, a file that is no checkpoint, a device",
+                directory, a file that is no checkpoint, a device; snapshots the checkpoints \
+                would carry beyond the memory limit",
         count: || CHECKPOINT_REFUSED.len(),
         outcome: "rc 2 before the run, one line naming the argument; nothing written",
         test: "checkpoint::checkpoint_destinations_are_refused_before_the_run",
@@ -1280,6 +1281,7 @@ fn render_doc() -> String {
          | probe samples | `sph_cases::guard` | their memory within the limit left by the particles |\n\
          | work | `sph_cases::guard` | at most {ps:e} particle-steps (about a day on 2 cores) unless `--allow-long-run`; never more than {st:e} steps (time resolution) |\n\
          | threads | `sph` | 1 to 1024 |\n\
+         | checkpoints | `sph_driver::guard`, before the run | the snapshots they carry within the memory the particles and probes leave; two checkpoints (those snapshots and at most {sb} B of solver state per particle) within the free space of their directory |\n\
          | densities, moduli | `sph_cases::params::physical_range`, by key name for every case | 1e-3 to 1e6 kg/m³; 1e-3 to 1e13 Pa |\n\
          | blow-up | every solver's step | `J = det F ≤ 0` (UL: `ρ ≤ 0`) or a non-finite state stops the run; so does a stable step below {ratio} of the acoustic step at rest (`sph_core::diagnostics::MIN_DT_RATIO`), checked in UL's acoustic sub-steps too |\n\
          | outputs | `sph_output::safety` and `sph_cases::preflight` | replaced only if a regular file a run wrote (results file, XDMF, earlier summary); never an input, a link, device, FIFO or directory; writability probed before the run; one temporary file per writer (`<name>.<pid>-<k>.tmp`, `O_EXCL`); one writer per results file (`flock` on `<name>.h5.lock`) |\n\n\
@@ -1314,6 +1316,7 @@ fn render_doc() -> String {
          file with every snapshot written before the kill). A checkpoint grows with the \
          snapshots it carries (as large as the results file so far).\n",
         ckv = sph_driver::checkpoint::FORMAT_VERSION,
+        sb = sph_driver::guard::STATE_BYTES_PER_PARTICLE,
         b2 = BYTES_PER_PARTICLE_2D,
         b3 = BYTES_PER_PARTICLE_3D,
         frac = DEFAULT_MEMORY_FRACTION * 100.0,

@@ -88,6 +88,18 @@ pub const CHECKPOINT_REFUSED: &[(&str, &[&str], &str)] = &[
         "is not an sph checkpoint",
     ),
     (
+        "snapshots the checkpoints would carry beyond the memory limit",
+        &[
+            "--set",
+            "snapshot_interval=1e-7",
+            "--max-memory",
+            "0.05",
+            "--checkpoint-every",
+            "0.001",
+        ],
+        "the checkpoints carry the 20,002 snapshots",
+    ),
+    (
         "a device",
         &["--checkpoint-every", "0.001", "--checkpoint", "/dev/null"],
         "it is a device",
