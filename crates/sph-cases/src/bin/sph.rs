@@ -13,6 +13,12 @@
 //! says why), 128 + the signal (130 for SIGINT, 143 for SIGTERM) when interrupted (the current
 //! step is finished, the file completed with the status `interrupted at t = …`, the summary
 //! written; a second signal ends the process at once). See `docs/reliability.md`.
+//!
+//! With `--checkpoint-every` a run writes its full state atomically to a checkpoint file
+//! (`<out>/<case>-<method>.ckpt` unless `--checkpoint`), every interval and when a signal stops
+//! it; `sph resume <checkpoint>` rebuilds the run it records, re-creates the results and
+//! continues to the end time, ending bit-identical to the run never stopped. A missing,
+//! damaged or foreign checkpoint is exit status 2 before any work.
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
