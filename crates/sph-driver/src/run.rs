@@ -382,24 +382,7 @@ pub fn drive<D: Dim>(
         }
         let target = next_snapshot.min(next_monitor).min(end);
         let t0 = Instant::now();
-        let mut failed = None;
-        while solver.time() + eps < target && interrupted() == 0 {
-            let before = solver.time();
-            if let Err(e) = solver.step(target - before) {
-                failed = Some(e);
-                break;
-            }
-            // A step that does not advance time would repeat for ever.
-            if solver.time().is_nan() || solver.time() <= before {
-                failed = Some(sph_core::Error::TimeStepCollapsed {
-                    dt: solver.time() - before,
-                    min: 0.0,
-                    step: solver.step_count(),
-                    time: before,
-                });
-                break;
-            }
-        }
+        let failed = steps_until(solver, target, eps, options.interrupt.as_ref());
         record.solver_seconds += t0.elapsed().as_secs_f64();
         report(solver, &record, false);
         if let Some(e) = failed {
@@ -532,6 +515,46 @@ pub fn default_checkpoint_path(results_without_ext: &Path) -> std::path::PathBuf
     let mut s = results_without_ext.as_os_str().to_os_string();
     s.push(".ckpt");
     s.into()
+}
+
+/// Steps `solver` until `target` (or an interruption, or an error), **on a worker thread of
+/// the rayon pool**: every parallel loop of a step then starts on a pool thread, which runs its
+/// share in place while the other workers steal the rest. Called from outside the pool, each
+/// parallel loop would instead be handed from the caller's thread to the pool and back — two
+/// context switches per loop, dozens per step, most of the run's time in the kernel on a small
+/// body (measured: 22 voluntary context switches per step on the 2D plate).
+fn steps_until<D: Dim>(
+    solver: &mut dyn Solver<D>,
+    target: f64,
+    eps: f64,
+    interrupt: Option<&Interrupt>,
+) -> Option<sph_core::Error> {
+    let interrupted =
+        || interrupt.is_some_and(|f| f.load(std::sync::atomic::Ordering::SeqCst) != 0);
+    let mut run = || {
+        while solver.time() + eps < target && !interrupted() {
+            let before = solver.time();
+            if let Err(e) = solver.step(target - before) {
+                return Some(e);
+            }
+            // A step that does not advance time would repeat for ever.
+            if solver.time().is_nan() || solver.time() <= before {
+                return Some(sph_core::Error::TimeStepCollapsed {
+                    dt: solver.time() - before,
+                    min: 0.0,
+                    step: solver.step_count(),
+                    time: before,
+                });
+            }
+        }
+        None
+    };
+    if rayon::current_thread_index().is_some() {
+        run()
+    } else {
+        // `join` called from outside the pool runs its first closure on a worker.
+        rayon::join(run, || ()).0
+    }
 }
 
 /// Writes the probes, the series and the summary and finishes the file.
