@@ -23,5 +23,5 @@ pub use checkpoint::{Checkpoint, CheckpointPlan, Every};
 pub use error::DriverError;
 pub use run::{
     drive, field_dataset, finite_or_null, signal_name, Interrupt, MonitorSample, Progress,
-    ProgressSink, Run, RunOptions, RunRecord, Schedule,
+    ProgressSink, Run, RunOptions, RunRecord, Schedule, DEFAULT_SNAPSHOTS,
 };

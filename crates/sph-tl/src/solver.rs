@@ -920,6 +920,11 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         self.steps
     }
 
+    fn pair_visits(&self) -> Option<u64> {
+        // One force evaluation per step over a list fixed in the reference configuration.
+        Some(self.steps * self.list.num_pairs() as u64)
+    }
+
     fn positions(&self) -> &[D::Vector] {
         &self.positions
     }

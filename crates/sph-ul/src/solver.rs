@@ -286,6 +286,8 @@ pub struct UlSolver<D: Dim> {
     time: f64,
     steps: u64,
     acoustic_steps: u64,
+    /// Pairs visited by the force evaluations so far ([`Solver::pair_visits`]).
+    pair_visits: u64,
     rebuilds: u64,
     max_speed: f64,
 }
@@ -400,6 +402,7 @@ impl<D: Dim> UlSolver<D> {
             time: 0.0,
             steps: 0,
             acoustic_steps: 0,
+            pair_visits: 0,
             rebuilds: 0,
             max_speed: 0.0,
         };
@@ -905,6 +908,7 @@ impl<D: Dim> UlSolver<D> {
         }
         self.max_speed = max_norm::<D>(&self.velocities, &self.free);
         self.acoustic_steps += 1;
+        self.pair_visits += (self.list.num_pairs() + self.contact_list.num_pairs()) as u64;
     }
 
     /// `x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt` (eq 23 and 25).
@@ -1386,6 +1390,7 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
                 self.isolated as u64,
                 self.isolated_max as u64,
                 u64::from(self.first_isolation.is_some()),
+                self.pair_visits,
             ],
         );
         save_probes(out, &self.probes);
@@ -1428,7 +1433,8 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         let [time, max_speed, next_probe, first_isolation] = input.scalars::<4>("scalars")?;
         (self.time, self.max_speed) = (time, max_speed);
         self.schedule.set_next(next_probe);
-        let c = input.u64s("counters", Some(6))?;
+        let c = input.u64s("counters", Some(7))?;
+        self.pair_visits = c[6];
         (self.steps, self.acoustic_steps, self.rebuilds) = (c[0], c[1], c[2]);
         (self.isolated, self.isolated_max) = (c[3] as usize, c[4] as usize);
         self.first_isolation = (c[5] != 0).then_some(first_isolation);
@@ -1438,6 +1444,10 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
 
     fn time(&self) -> f64 {
         self.time
+    }
+
+    fn pair_visits(&self) -> Option<u64> {
+        Some(self.pair_visits)
     }
 
     fn step_count(&self) -> u64 {
@@ -1450,6 +1460,11 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
 
     fn velocities(&self) -> &[D::Vector] {
         &self.velocities
+    }
+
+    /// [`UlSolver::original_index`]: the input index of each particle in the current order.
+    fn particle_ids(&self) -> std::borrow::Cow<'_, [u32]> {
+        std::borrow::Cow::Borrowed(&self.original_index)
     }
 
     fn field_names(&self) -> Vec<&'static str> {

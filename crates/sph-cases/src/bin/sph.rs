@@ -3,7 +3,8 @@
 //! ```text
 //! sph list [--verbose]
 //! sph run <case> [--method M] [--set key=value]... [--config case.toml] [--out DIR]
-//!         [--summary FILE.json] [--backend pure|hdf5-metno] [--threads N] [--no-output]
+//!         [--summary FILE.json] [--backend pure|hdf5-metno] [--compress[=LEVEL]]
+//!         [--threads N] [--no-output]
 //!         [--max-memory GIB] [--allow-long-run] [--dry-run]
 //!         [--checkpoint-every INTERVAL] [--checkpoint FILE]
 //! sph resume <checkpoint> [--threads N] [--max-memory GIB] [--log-every SECONDS]
@@ -30,7 +31,7 @@ use sph_core::budget::{self, Budget};
 use sph_core::state::fnv1a64;
 use sph_driver::{Checkpoint, CheckpointPlan, Every};
 use sph_output::safety::OutputLock;
-use sph_output::Backend;
+use sph_output::{Backend, Compression};
 use sph_scene::Scene;
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -116,6 +117,16 @@ struct RunArgs {
     /// HDF5 backend: `pure` (default) or `hdf5-metno` (needs the cargo feature).
     #[arg(long, default_value = "pure")]
     backend: String,
+    /// Compress the HDF5 datasets (shuffle + deflate; any HDF5 reader decodes them) at this
+    /// zlib level, 1 (fastest) to 9 (smallest): `--compress=LEVEL`, or `--compress` for 4.
+    #[arg(
+        long,
+        value_name = "LEVEL",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "4"
+    )]
+    compress: Option<u8>,
     /// Worker threads, 1 to 1024 (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -393,6 +404,7 @@ struct Settings {
     no_output: bool,
     summary: Option<PathBuf>,
     backend: String,
+    compress: Option<u8>,
     threads: Option<usize>,
     max_memory: Option<f64>,
     allow_long_run: bool,
@@ -420,6 +432,7 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
         no_output: a.no_output,
         summary: a.summary,
         backend: a.backend,
+        compress: a.compress,
         threads: a.threads,
         max_memory: a.max_memory,
         allow_long_run: a.allow_long_run,
@@ -512,6 +525,15 @@ fn resume_job(c: &Checkpoint) -> Result<(Job, Settings), CaseError> {
         no_output: flag("no_output")?,
         summary: path("summary")?,
         backend: text("backend")?.to_string(),
+        compress: match c.run.get("compress") {
+            Some(Json::Null) => None,
+            Some(v) => Some(
+                v.as_u64()
+                    .and_then(|l| u8::try_from(l).ok())
+                    .ok_or_else(|| bad("compress"))?,
+            ),
+            None => return Err(bad("compress")),
+        },
         threads: c
             .run
             .get("threads")
@@ -550,6 +572,7 @@ fn run_description(
         "no_output": s.no_output,
         "summary": s.summary.as_deref().map(abs).transpose()?,
         "backend": s.backend,
+        "compress": s.compress,
         "threads": threads,
         "allow_long_run": s.allow_long_run,
         "checkpoint_every": s.checkpoint_every,
@@ -598,6 +621,19 @@ fn execute(
         return Err(CaseError::Config(format!(
             "backend `{backend}` needs sph built with `--features hdf5-metno`"
         )));
+    }
+    let compression = match a.compress {
+        None => Compression::None,
+        Some(level) => Compression::deflate(level).map_err(|_| CaseError::InvalidValue {
+            key: "--compress".into(),
+            value: level.to_string(),
+            allowed: "a deflate level, 1 (fastest) to 9 (smallest)".into(),
+        })?,
+    };
+    if a.no_output && compression != Compression::None {
+        return Err(CaseError::Config(
+            "--compress compresses the results file; --no-output writes none".into(),
+        ));
     }
     let budget = match a.max_memory {
         Some(gib) if gib.is_finite() && gib > 0.0 && gib <= 1e9 => Budget::with_limit(
@@ -681,6 +717,7 @@ fn execute(
     let options = RunOptions {
         output: results,
         backend,
+        compression,
         progress: progress_display(std::io::stderr().is_terminal(), a.log_every)?,
         allow_long_run: a.allow_long_run,
         dry_run: a.dry_run,
