@@ -4,10 +4,10 @@
 # Called from .ci/run (from the workspace root): `bash crates/sph-output/ci.sh`.
 #
 # 1. Installs what it can of the Python readers (each skipped with a notice when it cannot):
-#    h5py and meshio (pip), and ParaView's Python (apt-get `python3-paraview python3-h5py`, for
-#    Debian's /usr/bin/python3: VTK's XDMF 2 and XDMF 3 readers, those of ParaView's "XDMF
-#    Reader" and "Xdmf3 Reader S/T"), or, when apt cannot, VTK's wheel (pip `vtk`: the XDMF 2
-#    reader only).
+#    h5py and meshio (pip); with SPH_CI_VTK=1 also ParaView's Python (apt-get
+#    `python3-paraview python3-h5py`, for Debian's /usr/bin/python3: VTK's XDMF 2 and XDMF 3
+#    readers, those of ParaView's "XDMF Reader" and "Xdmf3 Reader S/T"), or, when apt cannot,
+#    VTK's wheel (pip `vtk`: the XDMF 2 reader only).
 # 2. Runs two short cases with the `sph` command (a TL plate on the default schedule, and a UL
 #    ring collision, whose particles are reordered, with --compress) and checks their `.xmf`
 #    with every reader available (tests/xdmf_readers_check.py: frame count, times, points,
@@ -57,15 +57,22 @@ else
     notice "python3 not found; the h5py, meshio and VTK checks are skipped"
 fi
 DEB_PYTHON=/usr/bin/python3
-if [ -x "$DEB_PYTHON" ] && ! { has_module "$DEB_PYTHON" vtkmodules.vtkIOXdmf3 \
-    && has_module "$DEB_PYTHON" h5py; }; then
-    echo "sph-output: installing ParaView's Python (python3-paraview) for its XDMF readers"
-    apt_install python3-paraview python3-h5py \
-        || notice "apt-get install python3-paraview python3-h5py failed or is not possible"
-fi
-if ! has_module "$DEB_PYTHON" vtkmodules.vtkIOXdmf2 && command -v python3 >/dev/null 2>&1 \
-    && ! has_module python3 vtkmodules.vtkIOXdmf2; then
-    pip_install vtk || notice "pip install vtk failed; VTK's XDMF reader is not checked"
+# ParaView's Python and VTK's wheel are large downloads (hundreds of MB): installed only when
+# asked for (SPH_CI_VTK=1), so CI stays within its time budget; the VTK readers are checked
+# whenever they are present anyway.
+if [ "${SPH_CI_VTK:-0}" = 1 ]; then
+    if [ -x "$DEB_PYTHON" ] && ! { has_module "$DEB_PYTHON" vtkmodules.vtkIOXdmf3 \
+        && has_module "$DEB_PYTHON" h5py; }; then
+        echo "sph-output: installing ParaView's Python (python3-paraview) for its XDMF readers"
+        apt_install python3-paraview python3-h5py \
+            || notice "apt-get install python3-paraview python3-h5py failed or is not possible"
+    fi
+    if ! has_module "$DEB_PYTHON" vtkmodules.vtkIOXdmf2 && command -v python3 >/dev/null 2>&1 \
+        && ! has_module python3 vtkmodules.vtkIOXdmf2; then
+        pip_install vtk || notice "pip install vtk failed; VTK's XDMF reader is not checked"
+    fi
+else
+    notice "VTK/ParaView readers are checked only if already installed (SPH_CI_VTK=1 installs them)"
 fi
 
 # --- 2. the readers on real runs ---------------------------------------------------------
