@@ -19,6 +19,8 @@ pub struct RunFiles {
     pub summary: Option<PathBuf>,
     /// What the run reads, with the argument that names it (`--config`, the `sph` program).
     pub inputs: Vec<(String, PathBuf)>,
+    /// The checkpoint file (`--checkpoint`), if the run writes checkpoints.
+    pub checkpoint: Option<PathBuf>,
 }
 
 impl RunFiles {
@@ -70,8 +72,52 @@ impl RunFiles {
             }
             check_summary(path)?;
         }
+        if let Some(path) = &self.checkpoint {
+            check_checkpoint(path, self.inputs.iter().chain(&outputs), &self.summary)?;
+        }
         Ok(())
     }
+}
+
+/// The checkpoint goes to a writable directory and replaces at most an earlier checkpoint
+/// (a file starting with `SPHCKPT`), never an input, the results, the summary, a link, a
+/// device, a FIFO or a socket.
+fn check_checkpoint<'a>(
+    path: &Path,
+    others: impl Iterator<Item = &'a (String, PathBuf)>,
+    summary: &Option<PathBuf>,
+) -> Result<(), CaseError> {
+    let refuse = |why: String| CaseError::Config(format!("--checkpoint {}: {why}", path.display()));
+    let text = path.to_string_lossy();
+    if text.ends_with('/') || path.is_dir() {
+        return Err(refuse("names a directory, not a file".into()));
+    }
+    for (what, other) in others {
+        if same_file(path, other) {
+            return Err(refuse(format!(
+                "is {} ({what}); choose another file",
+                other.display()
+            )));
+        }
+    }
+    if summary.as_deref().is_some_and(|s| same_file(path, s)) {
+        return Err(refuse("is the --summary file; choose another file".into()));
+    }
+    check_destination(path)
+        .map_err(|e| refuse(format!("will not write there: {}", refusal_reason(&e))))?;
+    if path.exists() {
+        let mut head = [0u8; 7];
+        let is_checkpoint = std::fs::File::open(path)
+            .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head))
+            .is_ok()
+            && &head == b"SPHCKPT";
+        if !is_checkpoint {
+            return Err(refuse(
+                "exists and is not an sph checkpoint; remove it or choose another file".into(),
+            ));
+        }
+    }
+    check_directory("--checkpoint", path, &parent_dir(path))
 }
 
 /// The directory a file goes to (`.` for a bare name).

@@ -91,6 +91,10 @@ pub enum Error {
         /// Simulated time.
         time: f64,
     },
+    /// A checkpoint's solver state does not fit this solver (another case, parameters or
+    /// method), is damaged, or the solver cannot save its state.
+    #[error("checkpoint: {0}")]
+    Checkpoint(String),
 }
 
 impl Error {

@@ -28,6 +28,7 @@ pub mod parallel;
 pub mod relaxation;
 pub mod scene;
 pub mod solver;
+pub mod state;
 pub mod tool;
 
 pub use body::Body;
@@ -39,4 +40,5 @@ pub use pairs::PairKernel;
 pub use relaxation::{PairwiseDamper, PairwiseDamping};
 pub use scene::{Constraint, Constraints, Loads, Probe, Series, TimeFunction};
 pub use solver::{Field, Solver, StepInfo};
+pub use state::{StateReader, StateWriter};
 pub use tool::{RigidTool, ToolMotion, ToolShape};

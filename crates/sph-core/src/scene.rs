@@ -568,6 +568,16 @@ impl ProbeSchedule {
         })
     }
 
+    /// The time of the next sample (checkpoints).
+    pub fn next(&self) -> f64 {
+        self.next
+    }
+
+    /// Sets the time of the next sample (restoring a checkpoint).
+    pub fn set_next(&mut self, next: f64) {
+        self.next = next;
+    }
+
     /// Whether a sample is due at time `t`; advances the schedule if so.
     pub fn due(&mut self, t: f64) -> bool {
         if t + 1e-12 * self.interval.max(t.abs()) < self.next {

@@ -101,6 +101,31 @@ pub trait Solver<D: Dim>: Send {
         None
     }
 
+    /// Writes everything the next [`Solver::step`] reads that the scene does not determine:
+    /// positions, velocities, the method's evolving fields, time, step count, probe and series
+    /// records (see [`crate::state`]). Not the neighbour list or anything derived from the
+    /// reference configuration: [`Solver::restore_state`] is called on a solver freshly built
+    /// from the same scene, which has them. A run restored from this state continues
+    /// bit-identically. The default: this solver cannot save its state (an error).
+    fn save_state(&self, out: &mut crate::StateWriter) -> Result<(), Error> {
+        let _ = out;
+        Err(Error::Checkpoint(format!(
+            "the method {} cannot save its state",
+            self.method()
+        )))
+    }
+
+    /// Reads back what [`Solver::save_state`] wrote, into a solver freshly built from the same
+    /// scene (same case, parameters and method: a mismatch of names or sizes is an
+    /// [`Error::Checkpoint`]), and rebuilds what depends on the state (neighbour lists).
+    fn restore_state(&mut self, input: &mut crate::StateReader<'_>) -> Result<(), Error> {
+        let _ = input;
+        Err(Error::Checkpoint(format!(
+            "the method {} cannot restore a state",
+            self.method()
+        )))
+    }
+
     /// Neighbour pairs visited by the force evaluations so far (directed pairs summed over
     /// evaluations): the machine-independent work of the run, for cost comparisons between
     /// methods. `None` if the solver does not count it.

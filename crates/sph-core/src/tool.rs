@@ -425,6 +425,33 @@ impl<D: Dim> ReactionMeter<D> {
         self.last = force;
     }
 
+    /// Writes the meters' running sums (checkpoints).
+    pub fn save_all(out: &mut crate::StateWriter, name: &str, meters: &[Self]) {
+        let mut v = Vec::with_capacity(2 * meters.len());
+        let mut e = Vec::with_capacity(meters.len());
+        for m in meters {
+            v.push(m.impulse);
+            v.push(m.last);
+            e.push(m.elapsed);
+        }
+        out.vectors::<D>(name, &v);
+        out.f64s(name, &e);
+    }
+
+    /// Reads back [`ReactionMeter::save_all`] into as many meters.
+    pub fn restore_all(
+        input: &mut crate::StateReader<'_>,
+        name: &str,
+        meters: &mut [Self],
+    ) -> Result<(), crate::Error> {
+        let v = input.vectors::<D>(name, Some(2 * meters.len()))?;
+        let e = input.f64s(name, Some(meters.len()))?;
+        for (k, m) in meters.iter_mut().enumerate() {
+            (m.impulse, m.last, m.elapsed) = (v[2 * k], v[2 * k + 1], e[k]);
+        }
+        Ok(())
+    }
+
     /// The mean force since the last call (the last step's force if no time elapsed).
     pub fn take_mean(&mut self) -> D::Vector {
         let mean = if self.elapsed > 0.0 {

@@ -10,6 +10,7 @@
 //! | probe memory (samples × probes × 56 B) | the memory budget left by the particles | `probe_interval` |
 //! | particle-steps (particles × `end_time/Δt`) | [`MAX_PARTICLE_STEPS`] unless confirmed | `end_time` |
 //! | steps `end_time/Δt` | [`MAX_STEPS`], always | `end_time` |
+//! | with checkpoints: the snapshots they carry, in memory and in the checkpoint file | the memory left by the particles and probes; twice the file in the free space of its directory | `--checkpoint-every` |
 //!
 //! `Δt` is [`Solver::substep_dt`] of the initial state (for UL's dual stepping the acoustic
 //! sub-step), so a run that speeds up later takes more steps than estimated: the estimate is
@@ -21,6 +22,10 @@ use crate::run::{RunOptions, Schedule};
 use serde_json::{json, Map, Value as Json};
 use sph_core::budget::{self, format_bytes, format_count};
 use sph_core::{Dim, Field, Solver};
+
+/// An upper bound of the solver state per particle in a checkpoint: the largest, UL in 3D,
+/// writes 37 numbers of 8 bytes (296 B); TL 27, MPS 30.
+pub const STATE_BYTES_PER_PARTICLE: f64 = 400.0;
 
 /// Most snapshots a run may write.
 pub const MAX_SNAPSHOTS: f64 = 100_000.0;
@@ -212,6 +217,9 @@ impl Estimate {
                 MAX_PARTICLE_STEPS / self.particles.max(1) as f64 * self.step
             )));
         }
+        if let Some(plan) = &options.checkpoint {
+            self.check_checkpoints(plan)?;
+        }
         if self.probes > 0 {
             let budget = budget::current();
             if let Some(limit) = budget.max_bytes {
@@ -239,6 +247,52 @@ impl Estimate {
                         ),
                     );
                 }
+            }
+        }
+        Ok(())
+    }
+
+    /// A run with checkpoints keeps every snapshot it writes in memory and in each checkpoint
+    /// (so a resumed run re-creates its results whole): their size must fit in the memory the
+    /// particles and probes leave, and twice the last checkpoint (the previous one stays until
+    /// the new one is complete) in the free space of the checkpoint's directory.
+    fn check_checkpoints(
+        &self,
+        plan: &crate::checkpoint::CheckpointPlan,
+    ) -> Result<(), DriverError> {
+        let kept = self.snapshots * self.snapshot_bytes;
+        let budget = budget::current();
+        let refuse = |what: String| {
+            Err(DriverError::Config(format!(
+                "--checkpoint-every: the checkpoints carry the {} snapshots of the run (≈ {}), \
+                 {what}; write fewer snapshots (a larger snapshot_interval) or no checkpoints",
+                format_count(self.snapshots),
+                format_bytes(kept)
+            )))
+        };
+        if let Some(limit) = budget.max_bytes {
+            let left = limit as f64 - self.memory_bytes - self.probe_bytes;
+            if kept > left {
+                return refuse(format!(
+                    "more than the {} the memory limit ({}) leaves beside the particles",
+                    format_bytes(left.max(0.0)),
+                    budget.origin
+                ));
+            }
+        }
+        let dir = match plan.path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            Some(d) => d.to_path_buf(),
+            None => std::path::PathBuf::from("."),
+        };
+        if let Some(free) = sph_output::safety::free_space(&dir) {
+            let need = 2.0 * (kept + STATE_BYTES_PER_PARTICLE * self.particles as f64);
+            if need > free as f64 {
+                return refuse(format!(
+                    "and two checkpoints need ≈ {}, more than the {} free in {}",
+                    format_bytes(need),
+                    format_bytes(free as f64),
+                    dir.display()
+                ));
             }
         }
         Ok(())

@@ -3,11 +3,13 @@
 //! mid-run still completes the file with everything computed so far and the diagnostic in its
 //! summary.
 
+use crate::checkpoint::{self, Checkpoint, CheckpointPlan, DriverState, Every, SavedSnapshot};
 use crate::error::DriverError;
 use serde_json::{json, Map, Value as Json};
 use sph_core::disorder::DisorderStats;
-use sph_core::{Dim, Field, Solver};
+use sph_core::{Dim, Field, Solver, StateReader, StateWriter};
 use sph_output::{create_writer_with, Backend, Compression, Dataset, ResultWriter};
+use std::path::Path;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -78,6 +80,14 @@ pub struct RunOptions {
     /// the driver writes a last snapshot and completes the file with the status
     /// `interrupted at t = …`.
     pub interrupt: Option<Interrupt>,
+    /// Write checkpoints ([`crate::checkpoint`]): at the first snapshot or monitor time after
+    /// each interval (so checkpoints never change the steps taken).
+    pub checkpoint: Option<CheckpointPlan>,
+    /// Continue from this checkpoint: the solver handed to [`drive`] must be built from the
+    /// same case, method and parameters (its `/meta` must equal the checkpoint's); its state
+    /// is restored before anything is written, and the results file is re-created whole
+    /// (the snapshots written before the checkpoint, then the rest of the run).
+    pub resume: Option<Arc<Checkpoint>>,
 }
 
 /// A flag a signal handler sets to the signal's number (0: not interrupted).
@@ -266,6 +276,10 @@ pub fn drive<D: Dim>(
         estimate: Some(estimate.clone()),
         ..Default::default()
     };
+    let resumed = match &options.resume {
+        Some(c) => Some(restore(solver, &meta, c)?),
+        None => None,
+    };
     if options.dry_run {
         let mut summary = estimate.to_json();
         summary.insert("case".into(), json!(meta_str(&meta, "case")));
@@ -286,6 +300,9 @@ pub fn drive<D: Dim>(
             }
             let mut w = create_writer_with(path, options.backend, options.compression)?;
             w.write_meta(&meta)?;
+            for snap in resumed.iter().flat_map(|d| &d.snapshots) {
+                w.write_snapshot(snap.time, snap.step, &snap.datasets)?;
+            }
             Some(w)
         }
         None => None,
@@ -314,6 +331,16 @@ pub fn drive<D: Dim>(
     let mut next_snapshot = 0.0;
     let mut next_monitor = 0.0;
     let mut last_snapshot = f64::NEG_INFINITY;
+    // Snapshots kept for the checkpoints (the results file is re-created from them on resume).
+    let mut kept: Vec<SavedSnapshot> = Vec::new();
+    if let Some(d) = resumed {
+        (next_snapshot, next_monitor) = (d.next_snapshot, d.next_monitor);
+        last_snapshot = d.last_snapshot;
+        record.solver_seconds = d.solver_seconds;
+        record.monitor = d.monitor;
+        kept = d.snapshots;
+    }
+    let mut due = CheckpointClock::new(options.checkpoint.as_ref(), solver.time(), end);
     loop {
         let t = solver.time();
         if t + eps >= next_monitor {
@@ -322,11 +349,19 @@ pub fn drive<D: Dim>(
         }
         if t + eps >= next_snapshot {
             if let Some(w) = writer.as_mut() {
-                if let Err(e) = write_snapshot(w.as_mut(), solver, fields) {
+                let sets = snapshot_datasets(solver, fields);
+                if let Err(e) = w.write_snapshot(t, solver.step_count(), &sets) {
                     record.failure = Some(format!("writing the results: {e}"));
                     break;
                 }
                 last_snapshot = t;
+                if options.checkpoint.is_some() {
+                    kept.push(SavedSnapshot {
+                        time: t,
+                        step: solver.step_count(),
+                        datasets: sets,
+                    });
+                }
             }
             next_snapshot = next_event(t, schedule.snapshot_interval, end);
         }
@@ -334,6 +369,28 @@ pub fn drive<D: Dim>(
             break;
         }
         let sig = interrupted();
+        // A checkpoint when one is due, and on an interruption (the run can go on from there).
+        if let Some(plan) = options
+            .checkpoint
+            .as_ref()
+            .filter(|_| sig != 0 || due.is_due(t))
+        {
+            let state = DriverState {
+                next_snapshot,
+                next_monitor,
+                last_snapshot,
+                solver_seconds: record.solver_seconds,
+                monitor: record.monitor.clone(),
+                snapshots: std::mem::take(&mut kept),
+            };
+            let written = write_checkpoint(solver, plan, &meta, &state);
+            kept = state.snapshots;
+            if let Err(e) = written {
+                record.failure = Some(format!("writing the checkpoint: {e}"));
+                break;
+            }
+            due.written(t);
+        }
         if sig != 0 {
             record.interrupted = Some(sig);
             break;
@@ -383,6 +440,97 @@ pub fn drive<D: Dim>(
     record.wall_seconds = started.elapsed().as_secs_f64();
     summary.insert("wall_seconds".into(), json!(record.wall_seconds));
     Ok((record, summary))
+}
+
+/// Checks that `checkpoint` belongs to this run (same `/meta`: case, method, parameters) and
+/// restores the solver's state from it; returns the driver's state.
+fn restore<D: Dim>(
+    solver: &mut dyn Solver<D>,
+    meta: &Map<String, Json>,
+    checkpoint: &Checkpoint,
+) -> Result<DriverState, DriverError> {
+    let fail = |what: String| {
+        DriverError::Config(format!("checkpoint {}: {what}", checkpoint.path.display()))
+    };
+    if serde_json::to_string(meta).unwrap_or_default() != checkpoint.meta_text {
+        let differing: Vec<&str> = meta
+            .keys()
+            .chain(checkpoint.meta.keys())
+            .filter(|k| meta.get(*k) != checkpoint.meta.get(*k))
+            .map(String::as_str)
+            .collect();
+        return Err(fail(format!(
+            "written by another run (case {} method {}); differs in {}",
+            checkpoint.meta.get("case").unwrap_or(&Json::Null),
+            checkpoint.meta.get("method").unwrap_or(&Json::Null),
+            differing.join(", ")
+        )));
+    }
+    let mut input = StateReader::new(&checkpoint.solver);
+    solver
+        .restore_state(&mut input)
+        .map_err(|e| fail(e.to_string()))?;
+    if !input.is_at_end() {
+        return Err(fail("bytes left after the solver state".into()));
+    }
+    Ok(checkpoint.driver.clone())
+}
+
+fn write_checkpoint<D: Dim>(
+    solver: &dyn Solver<D>,
+    plan: &CheckpointPlan,
+    meta: &Map<String, Json>,
+    state: &DriverState,
+) -> Result<(), DriverError> {
+    let mut out = StateWriter::new();
+    solver.save_state(&mut out)?;
+    checkpoint::write(&plan.path, &plan.run, meta, state, &out.into_bytes())
+}
+
+/// When the next checkpoint is due: after each interval of simulated time or of wall time.
+struct CheckpointClock {
+    every: Option<Every>,
+    next_time: f64,
+    end: f64,
+    last_wall: Instant,
+}
+
+impl CheckpointClock {
+    fn new(plan: Option<&CheckpointPlan>, t: f64, end: f64) -> Self {
+        let every = plan.map(|p| p.every);
+        let next_time = match every {
+            Some(Every::SimulatedTime(dt)) => next_event(t, dt, f64::INFINITY),
+            _ => f64::INFINITY,
+        };
+        Self {
+            every,
+            next_time,
+            end,
+            last_wall: Instant::now(),
+        }
+    }
+
+    fn is_due(&self, t: f64) -> bool {
+        match self.every {
+            None => false,
+            Some(Every::SimulatedTime(_)) => t + 1e-12 * self.end.max(1e-300) >= self.next_time,
+            Some(Every::WallTime(d)) => self.last_wall.elapsed() >= d,
+        }
+    }
+
+    fn written(&mut self, t: f64) {
+        if let Some(Every::SimulatedTime(dt)) = self.every {
+            self.next_time = next_event(t, dt, f64::INFINITY);
+        }
+        self.last_wall = Instant::now();
+    }
+}
+
+/// The path of a run's default checkpoint: `<results>.ckpt`.
+pub fn default_checkpoint_path(results_without_ext: &Path) -> std::path::PathBuf {
+    let mut s = results_without_ext.as_os_str().to_os_string();
+    s.push(".ckpt");
+    s.into()
 }
 
 /// Steps `solver` until `target` (or an interruption, or an error), **on a worker thread of
@@ -520,6 +668,12 @@ fn write_snapshot<D: Dim>(
     solver: &dyn Solver<D>,
     fields: &[&str],
 ) -> Result<(), sph_output::OutputError> {
+    let sets = snapshot_datasets(solver, fields);
+    w.write_snapshot(solver.time(), solver.step_count(), &sets)
+}
+
+/// The datasets of a snapshot: the positions and the requested fields the solver offers.
+fn snapshot_datasets<D: Dim>(solver: &dyn Solver<D>, fields: &[&str]) -> Vec<Dataset> {
     let pos: Vec<[f64; 3]> = solver
         .positions()
         .iter()
@@ -543,8 +697,7 @@ fn write_snapshot<D: Dim>(
             sets.push(field_dataset::<D>(name, f));
         }
     }
-    w.write_snapshot(solver.time(), solver.step_count(), &sets)?;
-    Ok(())
+    sets
 }
 
 /// Refuses a compression the run cannot honour: a deflate level outside 1..=9, or any

@@ -16,6 +16,7 @@ use sph_core::parallel::MIN_PARTICLES_PER_TASK;
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
+use sph_core::state::{restore_probes, save_probes, StateReader, StateWriter};
 use sph_core::{
     Body, Constraints, Dim, Error, Field, Loads, NeighborList, PairKernel, Probe, Solver, StepInfo,
 };
@@ -647,6 +648,40 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
     /// `Δt = C l0 / c`, `c = √(K/ρ0)` (constant).
     fn stable_dt(&self) -> f64 {
         self.params.courant * self.dp / self.sound_speed
+    }
+
+    /// The state: `x`, `v`, and what the force evaluation left for the next step (`F`,
+    /// `G_i`, forces, accelerations, the contact energy), time, steps and probe records.
+    fn save_state(&self, out: &mut StateWriter) -> Result<(), Error> {
+        out.vectors::<D>("positions", &self.positions);
+        out.vectors::<D>("velocities", &self.velocities);
+        out.matrices::<D>("deformation", &self.deformation);
+        out.matrices::<D>("stress_term", &self.stress_term);
+        out.vectors::<D>("forces", &self.forces);
+        out.vectors::<D>("accelerations", &self.accelerations);
+        out.f64s(
+            "scalars",
+            &[self.time, self.contact_energy, self.schedule.next()],
+        );
+        out.u64s("steps", &[self.steps]);
+        save_probes(out, &self.probes);
+        Ok(())
+    }
+
+    fn restore_state(&mut self, input: &mut StateReader<'_>) -> Result<(), Error> {
+        let n = Some(self.positions.len());
+        self.positions = input.vectors::<D>("positions", n)?;
+        self.velocities = input.vectors::<D>("velocities", n)?;
+        self.deformation = input.matrices::<D>("deformation", n)?;
+        self.stress_term = input.matrices::<D>("stress_term", n)?;
+        self.forces = input.vectors::<D>("forces", n)?;
+        self.accelerations = input.vectors::<D>("accelerations", n)?;
+        let [time, contact_energy, next_probe] = input.scalars::<3>("scalars")?;
+        (self.time, self.contact_energy) = (time, contact_energy);
+        self.schedule.set_next(next_probe);
+        self.steps = input.u64s("steps", Some(1))?[0];
+        restore_probes(input, &mut self.probes)?;
+        self.check_finite()
     }
 
     fn time(&self) -> f64 {

@@ -15,6 +15,9 @@ use sph_core::parallel::MIN_PARTICLES_PER_TASK;
 use sph_core::relaxation::{PairwiseDamper, PairwiseDamping};
 use sph_core::scene::{ProbeSchedule, Series};
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
+use sph_core::state::{
+    restore_probes, restore_series, save_probes, save_series, StateReader, StateWriter,
+};
 use sph_core::tool::{ReactionMeter, RigidTool};
 use sph_core::{
     Body, Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe, Solver,
@@ -962,6 +965,57 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
 
     fn series(&self) -> Vec<Series> {
         self.series.clone()
+    }
+
+    /// The state: `x`, `v`, `F`, `Ḟ`, the last accelerations and the extremes the time step
+    /// reads, time and steps, probe and series records and the reaction meters.
+    fn save_state(&self, out: &mut StateWriter) -> Result<(), Error> {
+        out.vectors::<D>("positions", &self.positions);
+        out.vectors::<D>("velocities", &self.velocities);
+        out.matrices::<D>("deformation", &self.deformation);
+        out.matrices::<D>("deformation_rate", &self.deformation_rate);
+        out.vectors::<D>("accelerations", &self.accelerations);
+        out.f64s(
+            "scalars",
+            &[
+                self.time,
+                self.max_speed,
+                self.max_acceleration,
+                self.min_stretch,
+                self.max_stretch,
+                self.schedule.next(),
+            ],
+        );
+        out.u64s("steps", &[self.steps]);
+        let contacts: Vec<u64> = self.tool_contacts.iter().map(|&c| c as u64).collect();
+        out.u64s("tool_contacts", &contacts);
+        save_probes(out, &self.probes);
+        save_series(out, &self.series);
+        ReactionMeter::save_all(out, "tool_meters", &self.tool_meters);
+        ReactionMeter::save_all(out, "grip_meters", &self.grip_meters);
+        Ok(())
+    }
+
+    fn restore_state(&mut self, input: &mut StateReader<'_>) -> Result<(), Error> {
+        let n = Some(self.positions.len());
+        self.positions = input.vectors::<D>("positions", n)?;
+        self.velocities = input.vectors::<D>("velocities", n)?;
+        self.deformation = input.matrices::<D>("deformation", n)?;
+        self.deformation_rate = input.matrices::<D>("deformation_rate", n)?;
+        self.accelerations = input.vectors::<D>("accelerations", n)?;
+        let [time, max_speed, max_acceleration, min_stretch, max_stretch, next_probe] =
+            input.scalars::<6>("scalars")?;
+        (self.time, self.max_speed, self.max_acceleration) = (time, max_speed, max_acceleration);
+        (self.min_stretch, self.max_stretch) = (min_stretch, max_stretch);
+        self.schedule.set_next(next_probe);
+        self.steps = input.u64s("steps", Some(1))?[0];
+        let contacts = input.u64s("tool_contacts", Some(self.tool_contacts.len()))?;
+        self.tool_contacts = contacts.into_iter().map(|c| c as usize).collect();
+        restore_probes(input, &mut self.probes)?;
+        restore_series(input, &mut self.series)?;
+        ReactionMeter::restore_all(input, "tool_meters", &mut self.tool_meters)?;
+        ReactionMeter::restore_all(input, "grip_meters", &mut self.grip_meters)?;
+        self.check_finite()
     }
 
     fn energies(&self) -> Option<(f64, f64)> {

@@ -6,12 +6,20 @@
 //!         [--summary FILE.json] [--backend pure|hdf5-metno] [--compress[=LEVEL]]
 //!         [--threads N] [--no-output]
 //!         [--max-memory GIB] [--allow-long-run] [--dry-run]
+//!         [--checkpoint-every INTERVAL] [--checkpoint FILE]
+//! sph resume <checkpoint> [--threads N] [--max-memory GIB] [--log-every SECONDS]
 //! ```
 //! Exit status: 0 on success, 2 for bad input (one line on stderr; nothing is written), 1 when
 //! the run failed mid-way (the results file is completed with what was computed, its summary
 //! says why), 128 + the signal (130 for SIGINT, 143 for SIGTERM) when interrupted (the current
 //! step is finished, the file completed with the status `interrupted at t = …`, the summary
 //! written; a second signal ends the process at once). See `docs/reliability.md`.
+//!
+//! With `--checkpoint-every` a run writes its full state atomically to a checkpoint file
+//! (`<out>/<case>-<method>.ckpt` unless `--checkpoint`), every interval and when a signal stops
+//! it; `sph resume <checkpoint>` rebuilds the run it records, re-creates the results and
+//! continues to the end time, ending bit-identical to the run never stopped. A missing,
+//! damaged or foreign checkpoint is exit status 2 before any work.
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -20,6 +28,9 @@ use sph_cases::preflight::{write_summary, RunFiles};
 use sph_cases::runner::{Interrupt, Progress, ProgressSink};
 use sph_cases::{all_cases, find_case, resolve_method, CaseError, RunOptions, Value};
 use sph_core::budget::{self, Budget};
+use sph_core::state::fnv1a64;
+use sph_driver::{Checkpoint, CheckpointPlan, Every};
+use sph_output::safety::OutputLock;
 use sph_output::{Backend, Compression};
 use sph_scene::Scene;
 use std::io::{IsTerminal, Write};
@@ -60,6 +71,25 @@ enum Command {
     },
     /// Run a case.
     Run(Box<RunArgs>),
+    /// Continue a run from its checkpoint (`sph run --checkpoint-every`) to its end time, into
+    /// the same results; it ends bit-identical to the run never interrupted.
+    Resume(ResumeArgs),
+}
+
+#[derive(clap::Args)]
+struct ResumeArgs {
+    /// The checkpoint file.
+    checkpoint: PathBuf,
+    /// Worker threads, 1 to 1024 (default: the interrupted run's count, which the bit-identity
+    /// needs).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Memory the run may plan to use, GiB (default: 80 % of the memory available now).
+    #[arg(long, value_name = "GIB")]
+    max_memory: Option<f64>,
+    /// When stderr is not a terminal: a progress line every this many seconds (0: none).
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    log_every: f64,
 }
 
 #[derive(clap::Args)]
@@ -113,6 +143,13 @@ struct RunArgs {
     /// wall time (0: none). On a terminal a progress bar is drawn instead.
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
     log_every: f64,
+    /// Write a checkpoint (the full state, atomically) every this much simulated time (e.g.
+    /// 0.01) or wall time (e.g. 5min, 90s); `sph resume` continues from it.
+    #[arg(long, value_name = "INTERVAL")]
+    checkpoint_every: Option<String>,
+    /// The checkpoint file (default: `<out>/<case>-<method>.ckpt`).
+    #[arg(long, value_name = "FILE")]
+    checkpoint: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {
@@ -143,6 +180,13 @@ fn main() -> ExitCode {
             }
         },
         Command::Run(args) => match run(*args) {
+            Ok(code) => code,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
+        Command::Resume(args) => match resume(args) {
             Ok(code) => code,
             Err(e) => {
                 eprintln!("error: {e}");
@@ -274,7 +318,8 @@ enum Job {
         method: &'static str,
         params: sph_cases::Params,
     },
-    Scene(Box<Scene>),
+    /// A scene and its file.
+    Scene(Box<Scene>, PathBuf),
 }
 
 /// Whether the argument names a scene file rather than a case.
@@ -297,7 +342,7 @@ fn scene_job(a: &RunArgs) -> Result<Job, CaseError> {
         }
     }
     Scene::from_file(&a.case)
-        .map(|s| Job::Scene(Box::new(s)))
+        .map(|s| Job::Scene(Box::new(s), PathBuf::from(&a.case)))
         .map_err(|e| CaseError::Config(e.to_string()))
 }
 
@@ -353,12 +398,224 @@ fn case_job(a: &RunArgs) -> Result<Job, CaseError> {
     })
 }
 
+/// What a run writes and how it runs: `sph run`'s options, or a checkpoint's record of them.
+struct Settings {
+    out: PathBuf,
+    no_output: bool,
+    summary: Option<PathBuf>,
+    backend: String,
+    compress: Option<u8>,
+    threads: Option<usize>,
+    max_memory: Option<f64>,
+    allow_long_run: bool,
+    dry_run: bool,
+    log_every: f64,
+    checkpoint_every: Option<String>,
+    checkpoint: Option<PathBuf>,
+    /// `--config`, an input of the run.
+    config: Option<PathBuf>,
+}
+
 fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
     let job = if is_scene_file(&a.case) {
         scene_job(&a)?
     } else {
         case_job(&a)?
     };
+    if a.checkpoint.is_some() && a.checkpoint_every.is_none() {
+        return Err(CaseError::Config(
+            "--checkpoint FILE needs --checkpoint-every INTERVAL".into(),
+        ));
+    }
+    let settings = Settings {
+        out: a.out,
+        no_output: a.no_output,
+        summary: a.summary,
+        backend: a.backend,
+        compress: a.compress,
+        threads: a.threads,
+        max_memory: a.max_memory,
+        allow_long_run: a.allow_long_run,
+        dry_run: a.dry_run,
+        log_every: a.log_every,
+        checkpoint_every: a.checkpoint_every,
+        checkpoint: a.checkpoint,
+        config: a.config,
+    };
+    execute(job, settings, None)
+}
+
+/// `sph resume`: reads and checks the checkpoint (rc 2 on any problem, before any work),
+/// rebuilds the run it records and continues it.
+fn resume(a: ResumeArgs) -> Result<ExitCode, CaseError> {
+    let checkpoint = Checkpoint::load(&a.checkpoint)?;
+    let (job, mut settings) = resume_job(&checkpoint)?;
+    if a.threads.is_some() {
+        settings.threads = a.threads;
+    }
+    settings.max_memory = a.max_memory;
+    settings.log_every = a.log_every;
+    execute(job, settings, Some(Arc::new(checkpoint)))
+}
+
+/// The run a checkpoint records ([`run_description`]): its case (or scene file, unchanged),
+/// method, parameters and files.
+fn resume_job(c: &Checkpoint) -> Result<(Job, Settings), CaseError> {
+    let bad = |what: &str| {
+        CaseError::Config(format!(
+            "checkpoint {}: its run description has no valid `{what}`",
+            c.path.display()
+        ))
+    };
+    let text = |key: &str| {
+        c.run
+            .get(key)
+            .and_then(Json::as_str)
+            .ok_or_else(|| bad(key))
+    };
+    let path = |key: &str| -> Result<Option<PathBuf>, CaseError> {
+        match c.run.get(key) {
+            Some(Json::Null) => Ok(None),
+            Some(Json::String(s)) => Ok(Some(PathBuf::from(s))),
+            _ => Err(bad(key)),
+        }
+    };
+    let flag = |key: &str| {
+        c.run
+            .get(key)
+            .and_then(Json::as_bool)
+            .ok_or_else(|| bad(key))
+    };
+    let job = match text("job")? {
+        "case" => {
+            let case = find_case(text("case")?)?;
+            let method = resolve_method(case, Some(text("method")?))?;
+            let mut params = case.params_for(method);
+            let list = c.run.get("params").and_then(Json::as_array);
+            for p in list.ok_or_else(|| bad("params"))? {
+                params.apply_assignment(p.as_str().ok_or_else(|| bad("params"))?)?;
+            }
+            Job::Case {
+                case,
+                method,
+                params,
+            }
+        }
+        "scene" => {
+            let file = text("scene")?;
+            let bytes = std::fs::read(file).map_err(|e| CaseError::Io {
+                path: file.to_string(),
+                source: e,
+            })?;
+            if format!("{:016x}", fnv1a64(&bytes)) != text("scene_checksum")? {
+                return Err(CaseError::Config(format!(
+                    "checkpoint {}: the scene file {file} has changed since the checkpoint was \
+                     written; a resumed run must build the same scene",
+                    c.path.display()
+                )));
+            }
+            Scene::from_file(file)
+                .map(|s| Job::Scene(Box::new(s), PathBuf::from(file)))
+                .map_err(|e| CaseError::Config(e.to_string()))?
+        }
+        _ => return Err(bad("job")),
+    };
+    let settings = Settings {
+        out: path("out")?.ok_or_else(|| bad("out"))?,
+        no_output: flag("no_output")?,
+        summary: path("summary")?,
+        backend: text("backend")?.to_string(),
+        compress: match c.run.get("compress") {
+            Some(Json::Null) => None,
+            Some(v) => Some(
+                v.as_u64()
+                    .and_then(|l| u8::try_from(l).ok())
+                    .ok_or_else(|| bad("compress"))?,
+            ),
+            None => return Err(bad("compress")),
+        },
+        threads: c
+            .run
+            .get("threads")
+            .and_then(Json::as_u64)
+            .map(|n| n as usize),
+        max_memory: None,
+        allow_long_run: flag("allow_long_run")?,
+        dry_run: false,
+        log_every: 10.0,
+        checkpoint_every: Some(text("checkpoint_every")?.to_string()),
+        checkpoint: path("checkpoint")?,
+        config: None,
+    };
+    Ok((job, settings))
+}
+
+/// What a checkpoint records to rebuild the run (absolute paths: `sph resume` may run
+/// elsewhere). Parameters as `key=value` assignments, every one of them (exact: floats print
+/// in the shortest form that reads back to the same value).
+fn run_description(
+    job: &Job,
+    s: &Settings,
+    checkpoint: &std::path::Path,
+    threads: usize,
+) -> Result<Json, CaseError> {
+    let abs = |p: &std::path::Path| -> Result<String, CaseError> {
+        std::path::absolute(p)
+            .map(|p| p.to_string_lossy().into_owned())
+            .map_err(|e| CaseError::Io {
+                path: p.display().to_string(),
+                source: e,
+            })
+    };
+    let mut d = serde_json::json!({
+        "out": abs(&s.out)?,
+        "no_output": s.no_output,
+        "summary": s.summary.as_deref().map(abs).transpose()?,
+        "backend": s.backend,
+        "compress": s.compress,
+        "threads": threads,
+        "allow_long_run": s.allow_long_run,
+        "checkpoint_every": s.checkpoint_every,
+        "checkpoint": abs(checkpoint)?,
+    });
+    let m = d.as_object_mut().expect("an object");
+    match job {
+        Job::Case {
+            case,
+            method,
+            params,
+        } => {
+            let assignments: Vec<String> = params
+                .specs()
+                .iter()
+                .filter_map(|p| params.value(p.key).map(|v| format!("{}={v}", p.key)))
+                .collect();
+            m.insert("job".into(), "case".into());
+            m.insert("case".into(), case.info().name.into());
+            m.insert("method".into(), (*method).into());
+            m.insert("params".into(), assignments.into());
+        }
+        Job::Scene(_, file) => {
+            let bytes = std::fs::read(file).map_err(|e| CaseError::Io {
+                path: file.display().to_string(),
+                source: e,
+            })?;
+            m.insert("job".into(), "scene".into());
+            m.insert("scene".into(), abs(file)?.into());
+            m.insert(
+                "scene_checksum".into(),
+                format!("{:016x}", fnv1a64(&bytes)).into(),
+            );
+        }
+    }
+    Ok(d)
+}
+
+fn execute(
+    job: Job,
+    a: Settings,
+    resume_from: Option<Arc<Checkpoint>>,
+) -> Result<ExitCode, CaseError> {
     let backend: Backend = a.backend.parse()?;
     if !backend.is_available() {
         return Err(CaseError::Config(format!(
@@ -409,14 +666,27 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
             .build_global()
             .map_err(|e| CaseError::Config(format!("thread pool: {e}")))?;
     }
+    let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
     let (name, method) = match &job {
         Job::Case { case, method, .. } => (case.info().name.to_string(), method.to_string()),
-        Job::Scene(scene) => (scene.name().to_string(), scene.method().to_string()),
+        Job::Scene(scene, _) => (scene.name().to_string(), scene.method().to_string()),
     };
     let results = (!a.no_output).then(|| a.out.join(format!("{name}-{method}")));
+    let checkpoint = match &a.checkpoint_every {
+        Some(every) => {
+            let every: Every = every.parse()?;
+            let path = a
+                .checkpoint
+                .clone()
+                .unwrap_or_else(|| a.out.join(format!("{name}-{method}.ckpt")));
+            let run = run_description(&job, &a, &path, threads)?;
+            Some(CheckpointPlan { path, every, run })
+        }
+        None => None,
+    };
     let mut inputs = Vec::new();
-    if let Job::Scene(_) = &job {
-        inputs.push(("the scene file".to_string(), PathBuf::from(&a.case)));
+    if let Job::Scene(_, file) = &job {
+        inputs.push(("the scene file".to_string(), file.clone()));
     }
     if let Some(c) = &a.config {
         inputs.push(("--config".to_string(), c.clone()));
@@ -428,8 +698,22 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
         results: results.clone(),
         summary: a.summary.clone(),
         inputs,
+        checkpoint: checkpoint.as_ref().map(|c| c.path.clone()),
     }
     .check()?;
+    // Held for the run: a second run checkpointing to the same file fails fast.
+    let _checkpoint_lock = match (&checkpoint, a.dry_run) {
+        (Some(c), false) => {
+            if let Some(dir) = c.path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir).map_err(|e| CaseError::Io {
+                    path: dir.display().to_string(),
+                    source: e,
+                })?;
+            }
+            Some(OutputLock::acquire(&c.path)?)
+        }
+        _ => None,
+    };
     let options = RunOptions {
         output: results,
         backend,
@@ -438,6 +722,8 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
         allow_long_run: a.allow_long_run,
         dry_run: a.dry_run,
         interrupt: Some(install_signal_handlers()?),
+        checkpoint,
+        resume: resume_from,
     };
     let (record, summary) = budget::scoped(budget, || match &job {
         Job::Case {
@@ -445,7 +731,7 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
             method,
             params,
         } => case.run(method, params, &options),
-        Job::Scene(scene) => scene
+        Job::Scene(scene, _) => scene
             .run(&options)
             .map_err(|e| CaseError::Config(e.to_string())),
     })?;

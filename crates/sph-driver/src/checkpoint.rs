@@ -1,0 +1,470 @@
+//! Checkpoints: the full state of a run, written atomically every so often, from which a run
+//! continues bit-identically ([`crate::RunOptions::checkpoint`], [`crate::RunOptions::resume`]).
+//!
+//! A checkpoint holds the solver's state ([`sph_core::Solver::save_state`]: positions,
+//! velocities, each method's evolving fields, time, step count; never the neighbour list), the
+//! driver's (the next snapshot and monitor times, the monitor samples, and the snapshots already
+//! written, so that a resumed run re-creates the results file whole), the run's `/meta` (case,
+//! method, parameters: a resumed run must build the same) and a description of how to build
+//! the run again ([`Checkpoint::run`], the command line's business).
+//!
+//! File format (little-endian): the 8 bytes `SPHCKPT\0`, the format version (u32,
+//! [`FORMAT_VERSION`]), 4 zero bytes, the length of the body (u64), its FNV-1a 64-bit checksum
+//! (u64), then the body: the run description and the meta as JSON strings, the driver state
+//! and the solver state, each a section of [`sph_core::state`]. A file is written to a temporary
+//! name created exclusively beside it, synced, then renamed over the previous checkpoint, which
+//! therefore stays complete until the new one is.
+
+use crate::error::DriverError;
+use crate::run::MonitorSample;
+use serde_json::{Map, Value as Json};
+use sph_core::disorder::DisorderStats;
+use sph_core::state::fnv1a64;
+use sph_core::{StateReader, StateWriter};
+use sph_output::safety::TempFile;
+use sph_output::{Dataset, DatasetData};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// The checkpoint format version this build writes and reads.
+pub const FORMAT_VERSION: u32 = 1;
+
+const MAGIC: &[u8; 8] = b"SPHCKPT\0";
+const HEADER_LEN: usize = 32;
+
+/// How often a checkpoint is written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Every {
+    /// Every this much simulated time (s).
+    SimulatedTime(f64),
+    /// Every this much wall time.
+    WallTime(Duration),
+}
+
+impl std::str::FromStr for Every {
+    type Err = DriverError;
+
+    /// `0.01` (simulated seconds), `5min` or `90s` (wall time).
+    fn from_str(s: &str) -> Result<Self, DriverError> {
+        let invalid = || DriverError::InvalidValue {
+            key: "--checkpoint-every".into(),
+            value: s.into(),
+            allowed: "simulated seconds > 0 (e.g. 0.01) or wall time > 0 as <minutes>min or \
+                      <seconds>s (e.g. 5min)"
+                .into(),
+        };
+        let t = s.trim();
+        let (number, wall_scale) = if let Some(m) = t.strip_suffix("min") {
+            (m, Some(60.0))
+        } else if let Some(x) = t.strip_suffix('s') {
+            (x, Some(1.0))
+        } else {
+            (t, None)
+        };
+        let x: f64 = number.trim().parse().map_err(|_| invalid())?;
+        if !(x.is_finite() && x > 0.0) {
+            return Err(invalid());
+        }
+        Ok(match wall_scale {
+            Some(scale) => Every::WallTime(
+                Duration::try_from_secs_f64(x * scale)
+                    .ok()
+                    .filter(|d| !d.is_zero())
+                    .ok_or_else(invalid)?,
+            ),
+            None => Every::SimulatedTime(x),
+        })
+    }
+}
+
+impl std::fmt::Display for Every {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Every::SimulatedTime(t) => write!(f, "{t}"),
+            Every::WallTime(d) => write!(f, "{}s", d.as_secs_f64()),
+        }
+    }
+}
+
+/// Where and how often a run writes checkpoints.
+#[derive(Clone, Debug)]
+pub struct CheckpointPlan {
+    /// The checkpoint file (replaced by each new checkpoint).
+    pub path: PathBuf,
+    /// How often.
+    pub every: Every,
+    /// How to build the run again (stored as is, returned by [`Checkpoint::run`]): the
+    /// command line stores its case, method, parameters and files.
+    pub run: Json,
+}
+
+/// A snapshot as written to the results (kept to re-create the file on resume).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SavedSnapshot {
+    /// Simulated time.
+    pub time: f64,
+    /// Step count.
+    pub step: u64,
+    /// The datasets written.
+    pub datasets: Vec<Dataset>,
+}
+
+/// The driver's part of a checkpoint: where its schedule stands and what it has written.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DriverState {
+    /// Time of the next snapshot.
+    pub next_snapshot: f64,
+    /// Time of the next monitor sample.
+    pub next_monitor: f64,
+    /// Time of the last snapshot written.
+    pub last_snapshot: f64,
+    /// Wall seconds spent in `Solver::step` before the checkpoint.
+    pub solver_seconds: f64,
+    /// Monitor samples so far.
+    pub monitor: Vec<MonitorSample>,
+    /// Snapshots written so far (all of them: the results file is re-created on resume).
+    pub snapshots: Vec<SavedSnapshot>,
+}
+
+/// A checkpoint read back and checked (header, version, checksum).
+#[derive(Clone, Debug)]
+pub struct Checkpoint {
+    /// The file it was read from.
+    pub path: PathBuf,
+    /// How to build the run again ([`CheckpointPlan::run`]).
+    pub run: Json,
+    /// The run's `/meta` (a resumed run must build the same).
+    pub meta: Map<String, Json>,
+    /// The meta as written (compared as text: the same values serialise to the same text,
+    /// while parsing JSON floats back need not be exact).
+    pub meta_text: String,
+    /// The driver's state.
+    pub driver: DriverState,
+    /// The solver's state ([`sph_core::Solver::restore_state`] reads it).
+    pub solver: Vec<u8>,
+}
+
+fn corrupt(path: &Path, what: impl std::fmt::Display) -> DriverError {
+    DriverError::Config(format!("checkpoint {}: {what}", path.display()))
+}
+
+impl Checkpoint {
+    /// Reads and checks `path`: an sph checkpoint of this format version, complete, with a
+    /// matching checksum, and a readable run description. Every problem is one line naming the
+    /// file; nothing else is read or written.
+    pub fn load(path: &Path) -> Result<Self, DriverError> {
+        let bytes =
+            std::fs::read(path).map_err(|e| corrupt(path, format!("cannot read it: {e}")))?;
+        if bytes.len() < HEADER_LEN || &bytes[..8] != MAGIC {
+            let short = bytes.len() < HEADER_LEN && MAGIC.starts_with(&bytes[..bytes.len().min(8)]);
+            return Err(corrupt(
+                path,
+                if short {
+                    format!(
+                        "truncated ({} bytes; the header alone has {HEADER_LEN})",
+                        bytes.len()
+                    )
+                } else {
+                    "not an sph checkpoint (it does not start with SPHCKPT)".into()
+                },
+            ));
+        }
+        let word = |k: usize| u64::from_le_bytes(bytes[k..k + 8].try_into().expect("8 bytes"));
+        let version = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes"));
+        if version != FORMAT_VERSION {
+            return Err(corrupt(
+                path,
+                format!(
+                    "format version {version}; this sph ({}) reads version {FORMAT_VERSION}",
+                    env!("CARGO_PKG_VERSION")
+                ),
+            ));
+        }
+        let (len, sum) = (word(16), word(24));
+        let body = &bytes[HEADER_LEN..];
+        if body.len() as u64 != len {
+            return Err(corrupt(
+                path,
+                format!(
+                    "truncated or extended: the header announces {len} bytes of state, the file \
+                     holds {}",
+                    body.len()
+                ),
+            ));
+        }
+        if fnv1a64(body) != sum {
+            return Err(corrupt(
+                path,
+                "corrupt: the checksum does not match its contents",
+            ));
+        }
+        Self::decode(path, body).map_err(|e| corrupt(path, e))
+    }
+
+    fn decode(path: &Path, body: &[u8]) -> Result<Self, sph_core::Error> {
+        let mut r = StateReader::new(body);
+        let json = |r: &mut StateReader<'_>, what: &str| -> Result<Json, sph_core::Error> {
+            serde_json::from_str(r.str()?)
+                .map_err(|e| sph_core::Error::Checkpoint(format!("{what}: {e}")))
+        };
+        let run = json(&mut r, "the run description")?;
+        let meta_text = r.str()?.to_string();
+        let meta = match serde_json::from_str(&meta_text) {
+            Ok(Json::Object(m)) => m,
+            _ => {
+                return Err(sph_core::Error::Checkpoint(
+                    "the meta is not a JSON object".into(),
+                ))
+            }
+        };
+        let driver = read_driver(&mut r)?;
+        let solver = r.bytes()?.to_vec();
+        if !r.is_at_end() {
+            return Err(sph_core::Error::Checkpoint(
+                "bytes after the solver state".into(),
+            ));
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            run,
+            meta,
+            meta_text,
+            driver,
+            solver,
+        })
+    }
+}
+
+/// Writes a checkpoint to `path` atomically (see the module documentation).
+pub fn write(
+    path: &Path,
+    run: &Json,
+    meta: &Map<String, Json>,
+    driver: &DriverState,
+    solver: &[u8],
+) -> Result<(), DriverError> {
+    let mut w = StateWriter::new();
+    w.str(&run.to_string());
+    w.str(&serde_json::to_string(meta).unwrap_or_default());
+    write_driver(&mut w, driver);
+    w.bytes(solver);
+    let body = w.into_bytes();
+    let mut bytes = Vec::with_capacity(HEADER_LEN + body.len());
+    bytes.extend_from_slice(MAGIC);
+    bytes.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    bytes.extend_from_slice(&[0; 4]);
+    bytes.extend_from_slice(&(body.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(&fnv1a64(&body).to_le_bytes());
+    bytes.extend_from_slice(&body);
+    sph_output::safety::check_destination(path)?;
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| DriverError::Io {
+            path: dir.display().to_string(),
+            source: e,
+        })?;
+    }
+    let mut tmp = TempFile::beside(path, true)?;
+    tmp.write_all(&bytes)?;
+    tmp.persist(path)?;
+    // The rename itself is durable once the directory is synced.
+    #[cfg(unix)]
+    {
+        let dir = match path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            Some(d) => d.to_path_buf(),
+            None => PathBuf::from("."),
+        };
+        std::fs::File::open(&dir)
+            .and_then(|d| d.sync_all())
+            .map_err(|e| DriverError::Io {
+                path: dir.display().to_string(),
+                source: e,
+            })?;
+    }
+    Ok(())
+}
+
+fn write_driver(w: &mut StateWriter, d: &DriverState) {
+    w.f64s(
+        "driver",
+        &[
+            d.next_snapshot,
+            d.next_monitor,
+            d.last_snapshot,
+            d.solver_seconds,
+        ],
+    );
+    let col = |f: fn(&MonitorSample) -> f64| d.monitor.iter().map(f).collect::<Vec<_>>();
+    w.f64s("monitor_time", &col(|m| m.time));
+    w.f64s("monitor_disorder_max", &col(|m| m.disorder.max));
+    w.f64s("monitor_disorder_p99", &col(|m| m.disorder.p99));
+    w.f64s("monitor_disorder_mean", &col(|m| m.disorder.mean));
+    w.f64s("monitor_kinetic", &col(|m| m.kinetic));
+    w.f64s("monitor_strain", &col(|m| m.strain));
+    w.begin("snapshots", d.snapshots.len());
+    for s in &d.snapshots {
+        w.f64s("snapshot", &[s.time]);
+        w.u64s("step", &[s.step]);
+        w.begin("datasets", s.datasets.len());
+        for set in &s.datasets {
+            w.str(&set.name);
+            let shape: Vec<u64> = set.data.shape().iter().map(|&n| n as u64).collect();
+            w.u64s("shape", &shape);
+            match &set.data {
+                DatasetData::F64 { values, .. } => w.f64s("f64", values),
+                DatasetData::U64 { values, .. } => w.u64s("u64", values),
+            }
+        }
+    }
+}
+
+fn read_driver(r: &mut StateReader<'_>) -> Result<DriverState, sph_core::Error> {
+    let [next_snapshot, next_monitor, last_snapshot, solver_seconds] = r.scalars::<4>("driver")?;
+    let time = r.f64s("monitor_time", None)?;
+    let n = Some(time.len());
+    let max = r.f64s("monitor_disorder_max", n)?;
+    let p99 = r.f64s("monitor_disorder_p99", n)?;
+    let mean = r.f64s("monitor_disorder_mean", n)?;
+    let kinetic = r.f64s("monitor_kinetic", n)?;
+    let strain = r.f64s("monitor_strain", n)?;
+    let monitor = (0..time.len())
+        .map(|k| MonitorSample {
+            time: time[k],
+            disorder: DisorderStats {
+                max: max[k],
+                p99: p99[k],
+                mean: mean[k],
+            },
+            kinetic: kinetic[k],
+            strain: strain[k],
+        })
+        .collect();
+    let count = r.begin("snapshots", None)?;
+    let mut snapshots = Vec::with_capacity(count);
+    for _ in 0..count {
+        let [time] = r.scalars::<1>("snapshot")?;
+        let step = r.u64s("step", Some(1))?[0];
+        let sets = r.begin("datasets", None)?;
+        let mut datasets = Vec::with_capacity(sets);
+        for _ in 0..sets {
+            let name = r.str()?.to_string();
+            let shape: Vec<usize> = r
+                .u64s("shape", None)?
+                .into_iter()
+                .map(|n| n as usize)
+                .collect();
+            let len = shape.iter().try_fold(1usize, |a, &n| a.checked_mul(n));
+            let section = r.str()?;
+            let count = r.u64()? as usize;
+            if Some(count) != len {
+                return Err(sph_core::Error::Checkpoint(format!(
+                    "dataset `{name}`: {count} values for the shape {shape:?}"
+                )));
+            }
+            let mut take = |k: usize| -> Result<Vec<u64>, sph_core::Error> {
+                (0..k).map(|_| r.u64()).collect()
+            };
+            let data = match section {
+                "f64" => DatasetData::F64 {
+                    values: take(count)?.into_iter().map(f64::from_bits).collect(),
+                    shape,
+                },
+                "u64" => DatasetData::U64 {
+                    values: take(count)?,
+                    shape,
+                },
+                other => {
+                    return Err(sph_core::Error::Checkpoint(format!(
+                        "dataset `{name}`: unknown value type `{other}`"
+                    )))
+                }
+            };
+            datasets.push(Dataset { name, data });
+        }
+        snapshots.push(SavedSnapshot {
+            time,
+            step,
+            datasets,
+        });
+    }
+    Ok(DriverState {
+        next_snapshot,
+        next_monitor,
+        last_snapshot,
+        solver_seconds,
+        monitor,
+        snapshots,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_parses_simulated_and_wall_time() {
+        assert_eq!("0.01".parse::<Every>().unwrap(), Every::SimulatedTime(0.01));
+        assert_eq!(
+            "5min".parse::<Every>().unwrap(),
+            Every::WallTime(Duration::from_secs(300))
+        );
+        assert_eq!(
+            "90s".parse::<Every>().unwrap(),
+            Every::WallTime(Duration::from_secs(90))
+        );
+        for bad in ["0", "-1", "nan", "inf", "min", "5 minutes", "1e300min", ""] {
+            let e = bad.parse::<Every>().unwrap_err().to_string();
+            assert!(e.contains("--checkpoint-every"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn a_checkpoint_reads_back_and_damage_is_refused() {
+        let dir = std::env::temp_dir().join(format!("sph-ckpt-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("run.ckpt");
+        let mut meta = Map::new();
+        meta.insert("case".into(), Json::from("demo"));
+        let driver = DriverState {
+            next_snapshot: 0.5,
+            next_monitor: 0.25,
+            last_snapshot: 0.0,
+            solver_seconds: 1.5,
+            monitor: vec![MonitorSample {
+                time: 0.0,
+                kinetic: f64::NAN,
+                ..Default::default()
+            }],
+            snapshots: vec![SavedSnapshot {
+                time: 0.0,
+                step: 0,
+                datasets: vec![Dataset::f64("position", vec![1.0, 2.0, 3.0], vec![1, 3])],
+            }],
+        };
+        let run = serde_json::json!({"case": "demo"});
+        write(&path, &run, &meta, &driver, b"solver").unwrap();
+        let c = Checkpoint::load(&path).unwrap();
+        assert_eq!((c.run, c.meta, c.solver), (run, meta, b"solver".to_vec()));
+        assert!(c.driver.monitor[0].kinetic.is_nan());
+        assert_eq!(c.driver.snapshots, driver.snapshots);
+        let bytes = std::fs::read(&path).unwrap();
+        let damaged = |b: &[u8]| {
+            std::fs::write(&path, b).unwrap();
+            Checkpoint::load(&path).unwrap_err().to_string()
+        };
+        assert!(damaged(&bytes[..bytes.len() - 3]).contains("truncated"));
+        assert!(damaged(&bytes[..10]).contains("truncated"));
+        let mut flipped = bytes.clone();
+        *flipped.last_mut().unwrap() ^= 1;
+        assert!(damaged(&flipped).contains("checksum"));
+        let mut version = bytes.clone();
+        version[8] = 9;
+        assert!(damaged(&version).contains("format version 9"));
+        assert!(damaged(b"{\"not\": \"a checkpoint\"}").contains("not an sph checkpoint"));
+        std::fs::remove_file(&path).unwrap();
+        assert!(Checkpoint::load(&path)
+            .unwrap_err()
+            .to_string()
+            .contains("cannot read"));
+        std::fs::remove_dir(&dir).unwrap();
+    }
+}
