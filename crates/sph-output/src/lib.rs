@@ -10,6 +10,7 @@
 //! | `/meta` | one attribute per key of the run's metadata (see [JSON values](#json-values)) plus `json`, the whole map as a JSON string |
 //! | `/snapshots/<n>` | one group per snapshot, `n` = `000000`, `000001`, … (six digits, more only past 999 999, so the names sort lexically in time order), attributes `time` (f64) and `step` (u64), one dataset per field |
 //! | `/probes/<name>` | datasets `time` `[m]`, `position` `[m, 3]`, `velocity` `[m, 3]` (all f64) |
+//! | `/series/<name>` | datasets `time` `[m]`, `value` `[m, 3]` (f64): a vector time series the solver records, e.g. the contact force on a body (files written before this group existed have none; the reader then returns no series) |
 //! | `/summary` | one attribute per key of the run's summary plus `json`, the whole map as a JSON string |
 //!
 //! and a sidecar `<name>.xmf` (XDMF 3): a temporal collection of the snapshots, each a
@@ -97,7 +98,7 @@ use std::path::{Path, PathBuf};
 
 pub use data::{Dataset, DatasetData};
 pub use error::OutputError;
-pub use read::{read_file, FileContents, Probe, Snapshot};
+pub use read::{read_file, FileContents, Probe, Series, Snapshot};
 
 /// Value of the root attribute `format`.
 pub const FORMAT_NAME: &str = "sph-solids-output";
@@ -136,6 +137,15 @@ pub trait ResultWriter: Send {
         times: &[f64],
         positions: &[[f64; 3]],
         velocities: &[[f64; 3]],
+    ) -> Result<(), OutputError>;
+
+    /// Writes the vector time series `name` as `/series/<name>/time|value` (e.g. a contact
+    /// force). The slices must have the same length; a series name may be written once.
+    fn write_series(
+        &mut self,
+        name: &str,
+        times: &[f64],
+        values: &[[f64; 3]],
     ) -> Result<(), OutputError>;
 
     /// Writes the run's summary to `/summary`: one attribute per key plus the full map as the

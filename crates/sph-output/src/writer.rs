@@ -37,10 +37,10 @@ pub(crate) trait Sink: Send {
 }
 
 /// Creates the temporary file with the root attributes and the empty groups `meta`,
-/// `snapshots`, `probes`, `summary`.
+/// `snapshots`, `probes`, `series`, `summary`.
 pub(crate) type SinkFactory = fn(&Path, &[(String, Attr)]) -> Result<Box<dyn Sink>, OutputError>;
 
-pub(crate) const TOP_GROUPS: [&str; 4] = ["meta", "snapshots", "probes", "summary"];
+pub(crate) const TOP_GROUPS: [&str; 5] = ["meta", "snapshots", "probes", "series", "summary"];
 
 pub(crate) struct LayoutWriter {
     tmp: PathBuf,
@@ -49,6 +49,7 @@ pub(crate) struct LayoutWriter {
     sink: Box<dyn Sink>,
     snapshots: Vec<XdmfSnapshot>,
     probes: Vec<String>,
+    series: Vec<String>,
 }
 
 impl LayoutWriter {
@@ -71,6 +72,7 @@ impl LayoutWriter {
             sink,
             snapshots: Vec::new(),
             probes: Vec::new(),
+            series: Vec::new(),
         })
     }
 
@@ -225,6 +227,44 @@ impl ResultWriter for LayoutWriter {
             false,
         )?;
         self.probes.push(name.to_string());
+        Ok(())
+    }
+
+    fn write_series(
+        &mut self,
+        name: &str,
+        times: &[f64],
+        values: &[[f64; 3]],
+    ) -> Result<(), OutputError> {
+        check_name(name)
+            .map_err(|e| OutputError::invalid(&self.tmp, format!("series name {name:?}: {e}")))?;
+        if self.series.iter().any(|p| p == name) {
+            return Err(OutputError::invalid(
+                &self.tmp,
+                format!("series {name:?} written twice"),
+            ));
+        }
+        if values.len() != times.len() {
+            return Err(OutputError::invalid(
+                &self.tmp,
+                format!(
+                    "series {name:?}: {} times, {} values (must be equal)",
+                    times.len(),
+                    values.len()
+                ),
+            ));
+        }
+        let t = Dataset::scalars("time", times);
+        let v = Dataset::vectors("value", values);
+        self.sink.write_group(
+            &GroupSpec {
+                path: format!("series/{name}"),
+                attrs: Vec::new(),
+                datasets: vec![&t, &v],
+            },
+            false,
+        )?;
+        self.series.push(name.to_string());
         Ok(())
     }
 

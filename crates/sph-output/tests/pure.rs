@@ -100,6 +100,10 @@ fn rejected_calls_leave_the_writer_usable() {
         e.to_string().contains("run.h5.tmp"),
         "error names the file: {e}"
     );
+    // A series with mismatched lengths, then the same name twice.
+    assert!(w.write_series("f", &[0.0, 1.0], &[[0.0; 3]]).is_err());
+    w.write_series("f", &[0.0], &[[1.0; 3]]).unwrap();
+    assert!(w.write_series("f", &[0.0], &[[1.0; 3]]).is_err());
     // The simulation failed: summary with the failure, then finish keeps everything.
     let (t1, s1, d1) = snapshot(1);
     w.write_snapshot(t1, s1, &d1).unwrap();
@@ -112,6 +116,7 @@ fn rejected_calls_leave_the_writer_usable() {
     assert_eq!(c.snapshots[1].name, "000001");
     assert_eq!(c.summary, newer);
     assert_eq!(c.probes.len(), 1);
+    assert_eq!(c.series.len(), 1);
     assert!(c.meta.is_empty());
 }
 

@@ -101,6 +101,9 @@ pub fn probe(seed: usize, m: usize) -> (Vec<f64>, Vec<[f64; 3]>, Vec<[f64; 3]>) 
 
 pub const PROBES: [(&str, usize, usize); 2] = [("tip", 3, 11), ("mid point", 4, 5)];
 
+/// The one vector series of the standard content (values from `probe(7, 6)`'s positions).
+pub const SERIES: &str = "contact_force_0";
+
 /// Writes the standard content to `<base>.h5` and returns its path.
 pub fn write_all(base: &Path, backend: Backend) -> PathBuf {
     let mut w: Box<dyn ResultWriter> = create_writer(base, backend).expect("create writer");
@@ -113,6 +116,8 @@ pub fn write_all(base: &Path, backend: Backend) -> PathBuf {
         let (t, p, v) = probe(seed, m);
         w.write_probe(name, &t, &p, &v).unwrap();
     }
+    let (t, f, _) = probe(7, 6);
+    w.write_series(SERIES, &t, &f).unwrap();
     w.write_summary(&summary()).unwrap();
     w.finish().expect("finish")
 }
@@ -154,6 +159,12 @@ pub fn check_contents(c: &sph_output::FileContents) {
         assert_eq!(bits(p.positions.as_flattened()), bits(pos.as_flattened()));
         assert_eq!(bits(p.velocities.as_flattened()), bits(vel.as_flattened()));
     }
+    assert_eq!(c.series.len(), 1);
+    let (t, f, _) = probe(7, 6);
+    let s = &c.series[SERIES];
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&s.times), bits(&t));
+    assert_eq!(bits(s.values.as_flattened()), bits(f.as_flattened()));
 }
 
 /// A fresh scratch directory under the target dir (no tempfile dependency).
