@@ -29,5 +29,5 @@ pub use error::Error;
 pub use kernel::{Kernel, WendlandC2};
 pub use neighbor::{CellGrid, NeighborList};
 pub use pairs::PairKernel;
-pub use scene::{Constraint, Constraints, Loads, Probe, TimeFunction};
-pub use solver::{Field, Solver, StepInfo};
+pub use scene::{Constraint, Constraints, Loads, Probe, Series, TimeFunction};
+pub use solver::{EnergyBudget, Field, Solver, StepInfo};

@@ -385,6 +385,35 @@ impl<D: Dim> Probe<D> {
     }
 }
 
+/// A vector time series a solver records (e.g. the contact force on a body); the driver writes
+/// it to `/series/<name>` of the results file.
+#[derive(Clone, Debug)]
+pub struct Series<D: Dim> {
+    /// Name (the HDF5 group name).
+    pub name: String,
+    /// Recorded times.
+    pub times: Vec<f64>,
+    /// Recorded values.
+    pub values: Vec<D::Vector>,
+}
+
+impl<D: Dim> Series<D> {
+    /// An empty series.
+    pub fn new(name: &str) -> Self {
+        Self {
+            name: name.to_string(),
+            times: Vec::new(),
+            values: Vec::new(),
+        }
+    }
+
+    /// Appends a sample.
+    pub fn push(&mut self, t: f64, value: D::Vector) {
+        self.times.push(t);
+        self.values.push(value);
+    }
+}
+
 /// How often probes record: every `interval` of simulated time (0 records every step).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProbeSchedule {

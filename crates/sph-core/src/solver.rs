@@ -2,7 +2,7 @@
 
 use crate::dim::Dim;
 use crate::error::Error;
-use crate::scene::Probe;
+use crate::scene::{Probe, Series};
 
 /// A named per-particle output field, computed on demand (only when written).
 #[derive(Clone, Debug)]
@@ -24,6 +24,45 @@ pub struct StepInfo {
     pub time: f64,
     /// Steps taken so far (after this one).
     pub step: u64,
+}
+
+/// An energy budget: named terms whose sum the continuous problem conserves, so that the
+/// discrete scheme's error shows as one number, the residual `total − initial_total`.
+///
+/// `terms` holds stored energies (kinetic, elastic parts, contact) and accumulated transfers
+/// with the sign that keeps the sum constant (energy dissipated counts positive, work done on
+/// the body by forces outside the model negative). `notes` holds diagnostics that are not part
+/// of the sum, e.g. an exactly accumulated work beside the energy estimate that stands in the
+/// sum.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EnergyBudget {
+    /// Terms of the conserved total.
+    pub terms: Vec<(&'static str, f64)>,
+    /// Diagnostics outside the total.
+    pub notes: Vec<(&'static str, f64)>,
+    /// The total at `t = 0`.
+    pub initial_total: f64,
+}
+
+impl EnergyBudget {
+    /// Sum of the terms.
+    pub fn total(&self) -> f64 {
+        self.terms.iter().map(|t| t.1).sum()
+    }
+
+    /// `total − initial_total`: zero for a scheme that conserves what the terms account for.
+    pub fn residual(&self) -> f64 {
+        self.total() - self.initial_total
+    }
+
+    /// The term or note called `name`.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.terms
+            .iter()
+            .chain(&self.notes)
+            .find(|t| t.0 == name)
+            .map(|t| t.1)
+    }
 }
 
 /// A particle method advancing one body (or a set of interacting bodies) in time.
@@ -78,6 +117,16 @@ pub trait Solver<D: Dim>: Send {
     /// Total linear momentum `Σ m v` (3-vector; z = 0 in 2D), for methods that track masses.
     fn momentum(&self) -> Option<glam::DVec3> {
         None
+    }
+
+    /// The energy budget (see [`EnergyBudget`]), for methods that keep one.
+    fn energy_budget(&self) -> Option<EnergyBudget> {
+        None
+    }
+
+    /// Vector time series the solver records (e.g. contact forces), written to `/series`.
+    fn series(&self) -> &[Series<D>] {
+        &[]
     }
 
     /// Advances until `time() ≥ t_end` (the last step is shortened to land on it). Returns the

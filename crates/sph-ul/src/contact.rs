@@ -24,7 +24,7 @@
 
 use crate::solver::gather;
 use sph_core::pairs::fill_pair_kernels;
-use sph_core::{Dim, Error, Kernel, NeighborList, PairKernel, WendlandC2};
+use sph_core::{Dim, Error, NeighborList, PairKernel, WendlandC2};
 
 /// Contact state of a solver whose particles form several bodies.
 #[derive(Clone, Debug)]
@@ -109,7 +109,13 @@ impl<D: Dim> Contact<D> {
             return;
         }
         self.update_pairs(positions, kernel);
-        contact_density(&self.list, &self.pairs, masses, self.w_dp, &mut self.density);
+        contact_density(
+            &self.list,
+            &self.pairs,
+            masses,
+            self.w_dp,
+            &mut self.density,
+        );
         let (list, pairs, rho_c, k) = (&self.list, &self.pairs, &self.density, self.stiffness);
         gather(&mut self.accelerations, |i, a| {
             let v_i = masses[i] / densities[i];
@@ -209,9 +215,4 @@ pub fn contact_pair_factor(p_star: f64, v_i: f64, v_j: f64, dw: f64) -> f64 {
 #[inline]
 pub fn contact_energy(m: f64, rho_c: f64, stiffness: f64, rho0: f64) -> f64 {
     0.5 * stiffness * m * rho_c * rho_c / (rho0 * rho0)
-}
-
-/// `W(dp)` of the kernel: the offset of the contact density.
-pub(crate) fn kernel_at_spacing<D: Dim>(kernel: &WendlandC2<D>, dp: f64) -> f64 {
-    kernel.w(dp)
 }
