@@ -7,17 +7,33 @@ use sph_output::FileContents;
 
 /// Positions (x, y) and von Mises stress of the snapshot nearest to `t`.
 pub fn frame_at(c: &FileContents, t: f64, title: &str) -> Option<Frame> {
+    frame_where(c, t, title, |_| true)
+}
+
+/// The mid-plane cut of a 3D snapshot: as [`frame_at`], keeping the particles with
+/// `|z| < half_width` (the picture plane is x–y).
+pub fn cut_frame_at(c: &FileContents, t: f64, title: &str, half_width: f64) -> Option<Frame> {
+    frame_where(c, t, title, |x| x[2].abs() < half_width)
+}
+
+fn frame_where(
+    c: &FileContents,
+    t: f64,
+    title: &str,
+    keep: impl Fn([f64; 3]) -> bool,
+) -> Option<Frame> {
     let snap = c
         .snapshots
         .iter()
         .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))?;
     let pos = snap.dataset("position")?.as_f64()?;
     let vm = snap.dataset("von_mises")?.as_f64()?;
-    let stride = pos.len() / vm.len().max(1);
     let points = vm
         .iter()
         .enumerate()
-        .map(|(k, &v)| (pos[stride * k], pos[stride * k + 1], v))
+        .map(|(k, &v)| ([pos[3 * k], pos[3 * k + 1], pos[3 * k + 2]], v))
+        .filter(|(x, _)| keep(*x))
+        .map(|(x, v)| (x[0], x[1], v))
         .collect();
     Some(Frame {
         title: format!("{title}, t = {:.4}", snap.time),
@@ -79,6 +95,25 @@ pub fn rings_roughness(c: &FileContents, dp: f64) -> Map<String, Value> {
         .iter()
         .filter_map(|s| frame_at(c, s.time, ""))
         .collect();
+    roughness_map(
+        c,
+        &frames,
+        dp,
+        &|x, y| x.abs() < 0.01 && y.abs() < 0.02,
+        &|x, _| x.abs() > 0.07,
+    )
+}
+
+/// Stress roughness (see [`roughness`]) of every frame (one per snapshot) in the regions
+/// `near` and `far`, divided by the largest 99th-percentile von Mises stress of the run:
+/// `{roughness: {time, near, far, scale}}`, the form [`roughness_series`] reads.
+pub fn roughness_map(
+    c: &FileContents,
+    frames: &[Frame],
+    dp: f64,
+    near: &dyn Fn(f64, f64) -> bool,
+    far: &dyn Fn(f64, f64) -> bool,
+) -> Map<String, Value> {
     let scale = frames
         .iter()
         .map(|f| p99_value(std::slice::from_ref(f)))
@@ -89,8 +124,8 @@ pub fn rings_roughness(c: &FileContents, dp: f64) -> Map<String, Value> {
             .map(|f| roughness(f, dp, region).map(|r| r / scale))
             .collect()
     };
-    let near = series(&|x, y| x.abs() < 0.01 && y.abs() < 0.02);
-    let far = series(&|x, _| x.abs() > 0.07);
+    let near = series(near);
+    let far = series(far);
     let t: Vec<f64> = c.snapshots.iter().map(|s| s.time).collect();
     let mut m = Map::new();
     m.insert(

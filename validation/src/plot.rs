@@ -117,6 +117,40 @@ pub struct Frame {
     pub points: Vec<(f64, f64, f64)>,
 }
 
+/// A horizontal colour bar (0 … `vmax`, ticks at quarters) centred in `area`.
+fn colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    width: i32,
+    vmax: f64,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (len, y0, h) = (width.clamp(300, 600) - 100, 4, 14);
+    let x0 = (width - len) / 2;
+    for k in 0..len {
+        let c = heat(k as f64 / (len - 1) as f64);
+        area.draw(&Rectangle::new(
+            [(x0 + k, y0), (x0 + k + 1, y0 + h)],
+            c.filled(),
+        ))?;
+    }
+    area.draw(&Rectangle::new(
+        [(x0, y0), (x0 + len, y0 + h)],
+        BLACK.stroke_width(1),
+    ))?;
+    let style = ("sans-serif", 13).into_font().color(&BLACK);
+    for q in 0..=4 {
+        let x = x0 + len * q / 4;
+        area.draw(&PathElement::new(vec![(x, y0 + h), (x, y0 + h + 4)], BLACK))?;
+        let label = format!("{:.3e}", vmax * q as f64 / 4.0);
+        area.draw(&Text::new(label, (x - 28, y0 + h + 6), style.clone()))?;
+    }
+    area.draw(&Text::new(
+        "(values ≥ the right end saturate)".to_string(),
+        (x0 + len + 8, y0),
+        style,
+    ))?;
+    Ok(())
+}
+
 /// Colour of `s ∈ [0, 1]`: blue (0) through green to red (1).
 fn heat(s: f64) -> HSLColor {
     let s = if s.is_finite() {
@@ -128,8 +162,9 @@ fn heat(s: f64) -> HSLColor {
 }
 
 /// Particle pictures: the frames side by side (same axes, equal aspect), particles coloured by
-/// value from 0 (blue) to `vmax` (red; larger values saturate), `columns` panels per row;
-/// particles are drawn as discs of diameter ≈ `dp` (at least one pixel).
+/// value from 0 (blue) to `vmax` (red; larger values saturate) with a colour bar under the
+/// title, `columns` panels per row; particles are drawn as discs of diameter ≈ `dp` (at least
+/// one pixel).
 pub fn particle_frames(
     path: &Path,
     title: &str,
@@ -162,13 +197,14 @@ pub fn particle_frames(
     let panel_w = (1600 / columns as u32).max(200);
     let plot_h = ((panel_w - 20) as f64 * (y1 - y0) / (x1 - x0)).clamp(60.0, 900.0) as u32;
     let panel_h = plot_h + 40;
-    let root = BitMapBackend::new(path, (panel_w * columns as u32, panel_h * rows as u32 + 60))
-        .into_drawing_area();
+    let width = panel_w * columns as u32;
+    let root = BitMapBackend::new(path, (width, panel_h * rows as u32 + 90)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let caption = format!("{title} — colour 0 (blue) … {vmax:.3e} (red)");
-    let (head, body) = root.split_vertically(60);
-    head.titled(&caption, ("sans-serif", 20))
+    let (head, body) = root.split_vertically(90);
+    let head = head
+        .titled(title, ("sans-serif", 20))
         .map_err(|e| err(&e))?;
+    colour_bar(&head, width as i32, vmax).map_err(|e| err(&e))?;
     let panels = body.split_evenly((rows, columns));
     let radius = ((panel_w as f64 / (x1 - x0) * 0.45 * dp).round() as i32).clamp(1, 4);
     for (frame, area) in frames.iter().zip(panels) {

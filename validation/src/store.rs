@@ -22,6 +22,10 @@ pub struct StoredRun {
     pub summary: Map<String, Value>,
     /// Probe time series (downsampled to at most 2,000 samples): name → (t, x, y, z).
     pub probes: Map<String, Value>,
+    /// Vector time series the solver recorded (e.g. contact forces; downsampled to at most
+    /// 2,000 samples, keeping the largest magnitude of each stride): name → (t, x, y, z).
+    #[serde(default)]
+    pub series: Map<String, Value>,
 }
 
 impl StoredRun {
@@ -48,6 +52,45 @@ impl StoredRun {
             .unwrap_or_default();
         t.iter()
             .zip(&c)
+            .filter_map(|(a, b)| Some((a.as_f64()?, b.as_f64()?)))
+            .collect()
+    }
+
+    /// A solver series `(t, component k)` (e.g. `contact_force_0`).
+    pub fn series_values(&self, name: &str, k: usize) -> Vec<(f64, f64)> {
+        let Some(p) = self.series.get(name) else {
+            return Vec::new();
+        };
+        let get = |key: &str| {
+            p.get(key)
+                .and_then(Value::as_array)
+                .cloned()
+                .unwrap_or_default()
+        };
+        get("t")
+            .iter()
+            .zip(&get(["x", "y", "z"][k]))
+            .filter_map(|(a, b)| Some((a.as_f64()?, b.as_f64()?)))
+            .collect()
+    }
+
+    /// A series of the energy budget over the monitor samples (`residual`, `kinetic`,
+    /// `dissipated`, ...), as `(t, value)`.
+    pub fn budget_series(&self, key: &str) -> Vec<(f64, f64)> {
+        let m = self.summary.get("monitor");
+        let t = m
+            .and_then(|m| m.get("time"))
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default();
+        let v = m
+            .and_then(|m| m.get("energy_budget"))
+            .and_then(|b| b.get(key))
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default();
+        t.iter()
+            .zip(&v)
             .filter_map(|(a, b)| Some((a.as_f64()?, b.as_f64()?)))
             .collect()
     }
@@ -132,6 +175,7 @@ pub fn run_or_load_then(
     eprintln!("running {id}: {case} --method {method} {}", set.join(" "));
     let (record, mut summary) = c.run(method, &params, &options)?;
     let mut probes = Map::new();
+    let mut series = Map::new();
     if let Some(file) = &record.file {
         let contents = sph_output::read_file(file)?;
         let extra = after(&contents).map_err(CaseError::Config)?;
@@ -145,6 +189,24 @@ pub fn run_or_load_then(
             };
             let t: Vec<f64> = p.times.iter().step_by(stride).copied().collect();
             probes.insert(
+                name,
+                serde_json::json!({ "t": t, "x": pick(0), "y": pick(1), "z": pick(2) }),
+            );
+        }
+        for (name, s) in contents.series {
+            let stride = s.times.len().div_ceil(2000).max(1);
+            // Keep each stride's sample of largest magnitude, so peaks survive.
+            let picks: Vec<usize> = (0..s.times.len())
+                .step_by(stride)
+                .map(|a| {
+                    (a..(a + stride).min(s.times.len()))
+                        .max_by(|&i, &j| norm(s.values[i]).total_cmp(&norm(s.values[j])))
+                        .unwrap_or(a)
+                })
+                .collect();
+            let pick = |k: usize| -> Vec<f64> { picks.iter().map(|&i| s.values[i][k]).collect() };
+            let t: Vec<f64> = picks.iter().map(|&i| s.times[i]).collect();
+            series.insert(
                 name,
                 serde_json::json!({ "t": t, "x": pick(0), "y": pick(1), "z": pick(2) }),
             );
@@ -163,6 +225,7 @@ pub fn run_or_load_then(
         ),
         summary,
         probes,
+        series,
     };
     std::fs::create_dir_all(results_dir()).map_err(|e| CaseError::Io {
         path: results_dir().display().to_string(),
@@ -176,6 +239,10 @@ pub fn run_or_load_then(
         }
     })?;
     Ok(run)
+}
+
+fn norm(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
 /// A number with `digits` decimals, or `–` when absent.
