@@ -4,6 +4,7 @@
 #![deny(missing_docs)]
 
 pub mod frames;
+pub mod impacts;
 pub mod mps;
 pub mod plot;
 pub mod store;
