@@ -19,7 +19,7 @@
 //!
 //! **Accumulated work** ([`AccumulatedWork`]), per acoustic step and exact for the position-Verlet
 //! step (eq 23–25): with `v_mid = v^n + ½ Δt a = ½(v^n + v^{n+1})`, the kinetic energy changes by
-//! `Σ m a·v_mid Δt`, and each force part contributes `Σ m a_part·v_mid Δt` ([`step_work`]).
+//! `Σ m a·v_mid Δt`, and each force part contributes `Σ m a_part·v_mid Δt` ([`step_works`]).
 //! Accumulated are the parts no stored energy holds: the dissipative part
 //! `−½ β ρ0 c0 u_ij` of the Riemann interface pressure (eq 12), OAS's artificial stress, loads,
 //! the pressure jump's change of the volumetric energy;
@@ -53,7 +53,7 @@ impl Energy {
 }
 
 /// Work done on the particles since `t = 0` by force parts, accumulated per acoustic step with
-/// [`step_work`].
+/// [`step_works`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct AccumulatedWork {
     /// The dissipative part of the Riemann interface pressure, `−½ β ρ0 c0 u_ij` (eq 12):
@@ -73,25 +73,27 @@ pub struct AccumulatedWork {
     pub density_jump: f64,
 }
 
-/// The work of one force part (`part(i)` = its acceleration of particle `i`) over an acoustic
-/// step of the position-Verlet scheme: `Σ_i m_i a_part,i · (v_i + ½ Δt a_i) Δt`, with `a` the total acceleration after constraints
-/// and `v` the velocities before the kick. Summing it over all parts gives the change of the
-/// kinetic energy exactly (eq 24: `v^{n+1} = v^n + Δt a`). Summed in particle order (serial,
-/// deterministic).
-pub fn step_work<D: Dim>(
-    part: impl Fn(usize) -> D::Vector,
+/// The work of `K` force parts (`parts(i)` = their accelerations of particle `i`) over an
+/// acoustic step of the position-Verlet scheme, in one pass:
+/// `W_k = Σ_i m_i a_k,i · (v_i + ½ Δt a_i) Δt`, with `a` the total acceleration after
+/// constraints and `v` the velocities before the kick. Summing it over all parts gives the
+/// change of the kinetic energy exactly (eq 24: `v^{n+1} = v^n + Δt a`). Summed in particle
+/// order (serial, deterministic).
+pub fn step_works<D: Dim, const K: usize>(
+    parts: impl Fn(usize) -> [D::Vector; K],
     a: &[D::Vector],
     v: &[D::Vector],
     masses: &[f64],
     dt: f64,
-) -> f64 {
-    a.iter()
-        .zip(v)
-        .zip(masses)
-        .enumerate()
-        .map(|(i, ((&a, &v), &m))| m * D::dot(part(i), v + a * (0.5 * dt)))
-        .sum::<f64>()
-        * dt
+) -> [f64; K] {
+    let mut w = [0.0; K];
+    for (i, ((&a, &v), &m)) in a.iter().zip(v).zip(masses).enumerate() {
+        let mv = (v + a * (0.5 * dt)) * (m * dt);
+        for (wk, p) in w.iter_mut().zip(parts(i)) {
+            *wk += D::dot(p, mv);
+        }
+    }
+    w
 }
 
 /// The budget of a UL body: terms `kinetic`, `volumetric`, `shear`, `contact`, `dissipated`
@@ -150,8 +152,8 @@ mod tests {
         let (m, dt) = ([2.0, 3.0], 0.1);
         let ke = |v: &[DVec2]| 0.5 * (m[0] * v[0].length_squared() + m[1] * v[1].length_squared());
         let v1: Vec<DVec2> = v.iter().zip(&a).map(|(v, a)| *v + *a * dt).collect();
-        let w =
-            step_work::<D2>(|i| p1[i], &a, &v, &m, dt) + step_work::<D2>(|i| p2[i], &a, &v, &m, dt);
+        let [w1, w2] = step_works::<D2, 2>(|i| [p1[i], p2[i]], &a, &v, &m, dt);
+        let w = w1 + w2;
         assert!((ke(&v1) - ke(&v) - w).abs() < 1e-14 * ke(&v), "{w}");
     }
 }
