@@ -7,19 +7,33 @@ use sph_output::FileContents;
 
 /// Positions (x, y) and von Mises stress of the snapshot nearest to `t`.
 pub fn frame_at(c: &FileContents, t: f64, title: &str) -> Option<Frame> {
-    frame_where(c, t, title, |_| true)
+    let snap = c
+        .snapshots
+        .iter()
+        .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))?;
+    let pos = snap.dataset("position")?.as_f64()?;
+    let vm = snap.dataset("von_mises")?.as_f64()?;
+    let stride = pos.len() / vm.len().max(1);
+    let points = vm
+        .iter()
+        .enumerate()
+        .map(|(k, &v)| (pos[stride * k], pos[stride * k + 1], v))
+        .collect();
+    Some(Frame {
+        title: format!("{title}, t = {:.4}", snap.time),
+        points,
+    })
 }
 
-/// The mid-plane cut of a 3D snapshot: as [`frame_at`], keeping the particles with
-/// `|z| < half_width` (the picture plane is x–y).
-pub fn cut_frame_at(c: &FileContents, t: f64, title: &str, half_width: f64) -> Option<Frame> {
-    frame_where(c, t, title, |x| x[2].abs() < half_width)
-}
-
-fn frame_where(
+/// A 3D (or 2D) snapshot nearest to `t` projected on the coordinate axes `axes = (a, b)`
+/// (0 = x, 1 = y, 2 = z), keeping the particles for which `keep(position)` holds (a slab for a
+/// cut), coloured by `field`.
+pub fn frame_projected(
     c: &FileContents,
     t: f64,
     title: &str,
+    axes: (usize, usize),
+    field: &str,
     keep: impl Fn([f64; 3]) -> bool,
 ) -> Option<Frame> {
     let snap = c
@@ -27,16 +41,17 @@ fn frame_where(
         .iter()
         .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))?;
     let pos = snap.dataset("position")?.as_f64()?;
-    let vm = snap.dataset("von_mises")?.as_f64()?;
-    let points = vm
+    let value = snap.dataset(field)?.as_f64()?;
+    let points = value
         .iter()
         .enumerate()
-        .map(|(k, &v)| ([pos[3 * k], pos[3 * k + 1], pos[3 * k + 2]], v))
-        .filter(|(x, _)| keep(*x))
-        .map(|(x, v)| (x[0], x[1], v))
+        .filter_map(|(k, &v)| {
+            let p = [pos[3 * k], pos[3 * k + 1], pos[3 * k + 2]];
+            keep(p).then_some((p[axes.0], p[axes.1], v))
+        })
         .collect();
     Some(Frame {
-        title: format!("{title}, t = {:.4}", snap.time),
+        title: format!("{title}, t = {:.4e}", snap.time),
         points,
     })
 }

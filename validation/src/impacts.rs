@@ -8,7 +8,7 @@
 //!   particles (numerical fracture), stress roughness near the contact, momentum balance, energy
 //!   budget, status; pictures of the mid-plane (3D) coloured by von Mises stress.
 
-use crate::frames::{cut_frame_at, frame_at, p99_value, roughness_map, roughness_series};
+use crate::frames::{frame_at, frame_projected, p99_value, roughness_map, roughness_series};
 use crate::plot::{line_plot, particle_frames, Frame, Series};
 use crate::store::{fmt_opt, load, pct, rel, run_or_load_then, status, StoredRun};
 use serde_json::{Map, Value};
@@ -36,6 +36,11 @@ pub struct Selection {
 
 fn figures_dir() -> PathBuf {
     crate::workspace_root().join("docs").join("validation")
+}
+
+/// The mid-plane cut `|z| < dp` of a 3D snapshot in the x–y plane, coloured by von Mises stress.
+fn mid_plane(c: &FileContents, t: f64, title: &str, dp: f64) -> Option<Frame> {
+    frame_projected(c, t, title, (0, 1), "von_mises", |x| x[2].abs() < dp)
 }
 
 // ---------------------------------------------------------------------------------- Hertz
@@ -140,7 +145,7 @@ fn hertz_picture(c: &FileContents, png: &Path, run: &Hertz) -> Result<Map<String
         .and_then(Value::as_f64)
         .ok_or("no contact")?;
     let dp = 0.05 / run.res as f64;
-    let frame = cut_frame_at(c, t_peak, &run.label(), dp).ok_or("no snapshot")?;
+    let frame = mid_plane(c, t_peak, &run.label(), dp).ok_or("no snapshot")?;
     let vmax = p99_value(std::slice::from_ref(&frame));
     particle_frames(
         png,
@@ -304,7 +309,7 @@ fn impact_after(c: &FileContents, run: &Impact) -> Result<Map<String, Value>, St
     let (scene, dp) = (run.scene, run.dp);
     let at = |t: f64, title: &str| {
         if scene.three_d() {
-            cut_frame_at(c, t, title, dp)
+            mid_plane(c, t, title, dp)
         } else {
             frame_at(c, t, title)
         }

@@ -3,6 +3,7 @@
 //! sittings), and `report` turns the stored results into `docs/validation.md` with PNG plots.
 #![deny(missing_docs)]
 
+pub mod extreme;
 pub mod frames;
 pub mod impacts;
 pub mod mps;

@@ -117,40 +117,6 @@ pub struct Frame {
     pub points: Vec<(f64, f64, f64)>,
 }
 
-/// A horizontal colour bar (0 … `vmax`, ticks at quarters) centred in `area`.
-fn colour_bar<DB: DrawingBackend>(
-    area: &DrawingArea<DB, plotters::coord::Shift>,
-    width: i32,
-    vmax: f64,
-) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-    let (len, y0, h) = (width.clamp(300, 600) - 100, 4, 14);
-    let x0 = (width - len) / 2;
-    for k in 0..len {
-        let c = heat(k as f64 / (len - 1) as f64);
-        area.draw(&Rectangle::new(
-            [(x0 + k, y0), (x0 + k + 1, y0 + h)],
-            c.filled(),
-        ))?;
-    }
-    area.draw(&Rectangle::new(
-        [(x0, y0), (x0 + len, y0 + h)],
-        BLACK.stroke_width(1),
-    ))?;
-    let style = ("sans-serif", 13).into_font().color(&BLACK);
-    for q in 0..=4 {
-        let x = x0 + len * q / 4;
-        area.draw(&PathElement::new(vec![(x, y0 + h), (x, y0 + h + 4)], BLACK))?;
-        let label = format!("{:.3e}", vmax * q as f64 / 4.0);
-        area.draw(&Text::new(label, (x - 28, y0 + h + 6), style.clone()))?;
-    }
-    area.draw(&Text::new(
-        "(values ≥ the right end saturate)".to_string(),
-        (x0 + len + 8, y0),
-        style,
-    ))?;
-    Ok(())
-}
-
 /// Colour of `s ∈ [0, 1]`: blue (0) through green to red (1).
 fn heat(s: f64) -> HSLColor {
     let s = if s.is_finite() {
@@ -161,10 +127,44 @@ fn heat(s: f64) -> HSLColor {
     HSLColor(0.66 * (1.0 - s), 0.9, 0.45)
 }
 
+/// A horizontal colour bar at `origin` (pixels) of `width` × 14 px for values 0 … `vmax`, with
+/// tick labels at 0, ½ and 1 of the range (the same map as the particles).
+fn colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    origin: (i32, i32),
+    width: i32,
+    vmax: f64,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (x0, y0) = origin;
+    let steps = 100;
+    for k in 0..steps {
+        let a = x0 + width * k / steps;
+        let b = x0 + width * (k + 1) / steps;
+        let s = (k as f64 + 0.5) / steps as f64;
+        area.draw(&Rectangle::new([(a, y0), (b, y0 + 14)], heat(s).filled()))?;
+    }
+    area.draw(&Rectangle::new([(x0, y0), (x0 + width, y0 + 14)], BLACK))?;
+    for (k, frac) in [0.0, 0.5, 1.0].iter().enumerate() {
+        let label = if k == 0 {
+            "0".to_string()
+        } else {
+            format!("{:.3e}", frac * vmax)
+        };
+        let x = x0 + (width as f64 * frac) as i32 + 6;
+        let x = if k == 2 { x } else { x - 6 };
+        area.draw(&Text::new(
+            label,
+            (if k == 2 { x0 + width + 6 } else { x.max(x0) }, y0 + 16),
+            ("sans-serif", 13).into_font(),
+        ))?;
+    }
+    Ok(())
+}
+
 /// Particle pictures: the frames side by side (same axes, equal aspect), particles coloured by
-/// value from 0 (blue) to `vmax` (red; larger values saturate) with a colour bar under the
-/// title, `columns` panels per row; particles are drawn as discs of diameter ≈ `dp` (at least
-/// one pixel).
+/// value from 0 (blue) to `vmax` (red; larger values saturate; a colour bar under the title),
+/// `columns` panels per row; particles are drawn as discs of diameter ≈ `dp` (at least one
+/// pixel).
 pub fn particle_frames(
     path: &Path,
     title: &str,
@@ -197,14 +197,17 @@ pub fn particle_frames(
     let panel_w = (1600 / columns as u32).max(200);
     let plot_h = ((panel_w - 20) as f64 * (y1 - y0) / (x1 - x0)).clamp(60.0, 900.0) as u32;
     let panel_h = plot_h + 40;
-    let width = panel_w * columns as u32;
-    let root = BitMapBackend::new(path, (width, panel_h * rows as u32 + 90)).into_drawing_area();
+    let root = BitMapBackend::new(path, (panel_w * columns as u32, panel_h * rows as u32 + 60))
+        .into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let (head, body) = root.split_vertically(90);
-    let head = head
-        .titled(title, ("sans-serif", 20))
-        .map_err(|e| err(&e))?;
-    colour_bar(&head, width as i32, vmax).map_err(|e| err(&e))?;
+    let (head, body) = root.split_vertically(60);
+    head.draw(&Text::new(
+        title.to_string(),
+        (10, 6),
+        ("sans-serif", 20).into_font(),
+    ))
+    .map_err(|e| err(&e))?;
+    colour_bar(&head, (10, 32), 400, vmax).map_err(|e| err(&e))?;
     let panels = body.split_evenly((rows, columns));
     let radius = ((panel_w as f64 / (x1 - x0) * 0.45 * dp).round() as i32).clamp(1, 4);
     for (frame, area) in frames.iter().zip(panels) {

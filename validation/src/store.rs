@@ -22,8 +22,9 @@ pub struct StoredRun {
     pub summary: Map<String, Value>,
     /// Probe time series (downsampled to at most 2,000 samples): name → (t, x, y, z).
     pub probes: Map<String, Value>,
-    /// Vector time series the solver recorded (e.g. contact forces; downsampled to at most
-    /// 2,000 samples, keeping the largest magnitude of each stride): name → (t, x, y, z).
+    /// Series the solver recorded (e.g. contact forces, columns `x`, `y`, `z`; downsampled to
+    /// at most 2,000 samples, keeping the largest magnitude of each stride): name → (`t`, one
+    /// array per column).
     #[serde(default)]
     pub series: Map<String, Value>,
 }
@@ -56,7 +57,7 @@ impl StoredRun {
             .collect()
     }
 
-    /// A solver series `(t, component k)` (e.g. `contact_force_0`).
+    /// A solver series `(t, component k)` (e.g. `contact_force_0`, columns `x`, `y`, `z`).
     pub fn series_values(&self, name: &str, k: usize) -> Vec<(f64, f64)> {
         let Some(p) = self.series.get(name) else {
             return Vec::new();
@@ -194,22 +195,31 @@ pub fn run_or_load_then(
             );
         }
         for (name, s) in contents.series {
-            let stride = s.times.len().div_ceil(2000).max(1);
-            // Keep each stride's sample of largest magnitude, so peaks survive.
-            let picks: Vec<usize> = (0..s.times.len())
+            let n = s.times.len();
+            let stride = n.div_ceil(2000).max(1);
+            // Keep each stride's sample of largest magnitude over the columns, so peaks survive.
+            let magnitude =
+                |i: usize| -> f64 { s.columns.values().map(|c| c[i] * c[i]).sum::<f64>() };
+            let picks: Vec<usize> = (0..n)
                 .step_by(stride)
                 .map(|a| {
-                    (a..(a + stride).min(s.times.len()))
-                        .max_by(|&i, &j| norm(s.values[i]).total_cmp(&norm(s.values[j])))
+                    (a..(a + stride).min(n))
+                        .max_by(|&i, &j| magnitude(i).total_cmp(&magnitude(j)))
                         .unwrap_or(a)
                 })
                 .collect();
-            let pick = |k: usize| -> Vec<f64> { picks.iter().map(|&i| s.values[i][k]).collect() };
-            let t: Vec<f64> = picks.iter().map(|&i| s.times[i]).collect();
-            series.insert(
-                name,
-                serde_json::json!({ "t": t, "x": pick(0), "y": pick(1), "z": pick(2) }),
+            let mut out = Map::new();
+            out.insert(
+                "t".into(),
+                serde_json::json!(picks.iter().map(|&i| s.times[i]).collect::<Vec<_>>()),
             );
+            for (col, v) in &s.columns {
+                out.insert(
+                    col.clone(),
+                    serde_json::json!(picks.iter().map(|&i| v[i]).collect::<Vec<_>>()),
+                );
+            }
+            series.insert(name, Value::Object(out));
         }
         let _ = std::fs::remove_file(file);
         let _ = std::fs::remove_file(sph_output::xmf_path(&file.with_extension("")));
@@ -239,10 +249,6 @@ pub fn run_or_load_then(
         }
     })?;
     Ok(run)
-}
-
-fn norm(v: [f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
 /// A number with `digits` decimals, or `–` when absent.

@@ -25,6 +25,7 @@ fn main() {
     tl_section(&mut md, &criterion);
     mps_section(&mut md, &criterion);
     ul_stepping_section(&mut md, &root);
+    case_timings_section(&mut md, &root);
     std::fs::create_dir_all(out.parent().unwrap()).expect("create docs/");
     let tmp = out.with_extension("md.tmp");
     std::fs::write(&tmp, &md).expect("write docs/performance.md");
@@ -289,4 +290,104 @@ fn ul_stepping_section(md: &mut String, root: &Path) {
         .unwrap();
     }
     writeln!(md).unwrap();
+}
+
+/// SPHinXsys reference for the anchor rows: (label prefix, threads, wall seconds, steps).
+/// Recorded by the team on this machine kind (2 cores), SPHinXsys commit 9f33297, C++ with TBB,
+/// Release build, same cases, particle counts and h = 1.3 dp, no output, median of 3 (issue 13
+/// of this project); not re-measured here.
+const SPHINXSYS: &[(&str, usize, f64)] = &[
+    ("2D oscillating plate, TL,", 1, 21.3),
+    ("2D oscillating plate, TL,", 2, 11.4),
+    ("2D oscillating plate, UL-ENOG", 1, 47.4),
+    ("2D oscillating plate, UL-ENOG", 2, 27.3),
+    ("3D twisting column", 1, 26.5),
+    ("3D twisting column", 2, 13.6),
+];
+
+fn case_timings_section(md: &mut String, root: &Path) {
+    let path = root
+        .join("benchmarks")
+        .join("results")
+        .join("case-timings.json");
+    let Some(doc) = std::fs::read_to_string(&path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+    else {
+        writeln!(
+            md,
+            "## Whole runs\n\nNot measured yet: `cargo run --release -p sph-benchmarks --bin case-timings`.\n"
+        )
+        .unwrap();
+        return;
+    };
+    let rows = doc["rows"].as_array().cloned().unwrap_or_default();
+    let f = |v: &serde_json::Value, k: &str| v[k]["median"].as_f64();
+    let spread = |v: &serde_json::Value, k: &str| match (v[k]["min"].as_f64(), v[k]["max"].as_f64())
+    {
+        (Some(a), Some(b)) => format!("{a:.2}–{b:.2}"),
+        _ => "–".into(),
+    };
+    writeln!(md, "## Whole runs through `sph run`\n").unwrap();
+    writeln!(
+        md,
+        "Generated from `benchmarks/results/case-timings.json` (`cargo run --release -p \
+         sph-benchmarks --bin case-timings`): each scene run as a user runs it (`sph run … \
+         --no-output --threads N`, unpinned), median of the repeats with the range; user and \
+         system CPU time of the process.\n"
+    )
+    .unwrap();
+    for (group, title) in [
+        (
+            "anchors",
+            "Anchor cases beside SPHinXsys (the reference was measured by the team on this \
+             machine kind: SPHinXsys commit 9f33297, C++/TBB, Release, same particle counts, \
+             h = 1.3 dp, no output, median of 3; ratio = SPHinXsys wall / ours)",
+        ),
+        ("extreme", "Extreme TL scenes"),
+    ] {
+        let rows: Vec<&serde_json::Value> = rows.iter().filter(|r| r["group"] == group).collect();
+        if rows.is_empty() {
+            continue;
+        }
+        writeln!(md, "### {title}\n").unwrap();
+        writeln!(
+            md,
+            "| scene | threads | particles | steps | wall (s) | range | user (s) | system (s) | sys/user | particle-steps/s | SPHinXsys (s) | ratio |"
+        )
+        .unwrap();
+        writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|").unwrap();
+        for r in rows {
+            let label = r["label"].as_str().unwrap_or("?");
+            let threads = r["threads"].as_u64().unwrap_or(0) as usize;
+            let wall = f(r, "wall_seconds");
+            let (user, sys) = (f(r, "user_seconds"), f(r, "system_seconds"));
+            let reference = SPHINXSYS
+                .iter()
+                .find(|(p, t, _)| label.starts_with(p) && *t == threads)
+                .map(|x| x.2);
+            let opt = |x: Option<f64>, d: usize| x.map_or("–".into(), |v| format!("{v:.d$}"));
+            let steps = r["acoustic_steps"]
+                .as_u64()
+                .or_else(|| r["steps"].as_u64())
+                .map_or("–".into(), |s| s.to_string());
+            writeln!(
+                md,
+                "| {label} | {threads} | {} | {steps} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                r["particles"],
+                opt(wall, 2),
+                spread(r, "wall_seconds"),
+                opt(user, 2),
+                opt(sys, 2),
+                opt(user.zip(sys).map(|(u, s)| 100.0 * s / u), 1) + " %",
+                r["particle_steps_per_second"]
+                    .as_f64()
+                    .map_or("–".into(), |v| format!("{v:.3e}")),
+                opt(reference, 1),
+                opt(reference.zip(wall).map(|(a, b)| a / b), 2),
+            )
+            .unwrap();
+        }
+        writeln!(md).unwrap();
+    }
 }

@@ -339,9 +339,13 @@ pub fn drive<D: Dim>(
             w.write_probe(&p.name, &p.times, &pos, &vel)?;
         }
         for s in solver.series() {
-            let values: Vec<[f64; 3]> =
-                s.values.iter().map(|&x| D::to_vec3(x).to_array()).collect();
-            w.write_series(&s.name, &s.times, &values)?;
+            let columns: Vec<(&str, &[f64])> = s
+                .columns
+                .iter()
+                .zip(&s.values)
+                .map(|(c, v)| (c.as_str(), v.as_slice()))
+                .collect();
+            w.write_series(&s.name, &s.time, &columns)?;
         }
         w.write_summary(&summary)?;
         record.file = Some(w.finish()?);

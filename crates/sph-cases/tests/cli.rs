@@ -248,7 +248,7 @@ fn a_coarse_hertz_impact_rebounds_and_records_the_contact_force() {
     let file = sph_output::read_file(dir.join("hertz-impact-3d-ul-enog.h5")).unwrap();
     let f = &file.series["contact_force_0"];
     assert!(
-        f.values.iter().any(|v| v[0] < 0.0),
+        f.columns["x"].iter().any(|&x| x < 0.0),
         "the left sphere is pushed back"
     );
     std::fs::remove_dir_all(&dir).unwrap();

@@ -119,6 +119,10 @@ pub trait Dim: Copy + Debug + Default + Send + Sync + 'static {
     /// Eigen-decomposition of a symmetric matrix: eigenvalues in ascending order and the matrix
     /// whose columns are the matching orthonormal eigenvectors (`m = Q diag(λ) Qᵀ`).
     fn symmetric_eigen(m: Self::Matrix) -> (Self::Vector, Self::Matrix);
+    /// Smallest singular value of `m` (`√` of the smallest eigenvalue of `mᵀm`), in closed form:
+    /// the factor by which `m` shortens the direction it shortens most (for a deformation
+    /// gradient, the smallest principal stretch).
+    fn min_singular_value(m: Self::Matrix) -> f64;
     /// `Q diag(λ) Qᵀ`: rebuilds a symmetric matrix from an eigen-decomposition.
     fn from_eigen(eigenvalues: Self::Vector, q: Self::Matrix) -> Self::Matrix {
         Self::matrix_from_fn(|r, c| {
@@ -231,6 +235,19 @@ impl Dim for D2 {
             DVec3::new(0.0, 0.0, zz),
         )
     }
+    fn min_singular_value(m: DMat2) -> f64 {
+        // Eigenvalues of mᵀm: (t ± √(t² − 4 det²))/2 with t = |m|².
+        let t = m.x_axis.length_squared() + m.y_axis.length_squared();
+        let det = m.determinant();
+        let disc = (t * t - 4.0 * det * det).max(0.0).sqrt();
+        // The smaller root without cancellation: det² / larger root.
+        let big = 0.5 * (t + disc);
+        if big > 0.0 {
+            (det * det / big).sqrt()
+        } else {
+            0.0
+        }
+    }
     fn symmetric_eigen(m: DMat2) -> (DVec2, DMat2) {
         // Closed form: rotation angle θ with tan 2θ = 2 m_xy / (m_xx − m_yy).
         let (a, b, d) = (m.x_axis.x, 0.5 * (m.y_axis.x + m.x_axis.y), m.y_axis.y);
@@ -339,6 +356,25 @@ impl Dim for D3 {
     fn to_mat3(m: DMat3, _zz: f64) -> DMat3 {
         m
     }
+    fn min_singular_value(m: DMat3) -> f64 {
+        // Smallest eigenvalue of C = mᵀm by the trigonometric solution of its characteristic
+        // cubic (Smith 1961), clamped at 0 against round-off.
+        let c = m.transpose() * m;
+        let (c00, c11, c22) = (c.x_axis.x, c.y_axis.y, c.z_axis.z);
+        let (c01, c02, c12) = (c.y_axis.x, c.z_axis.x, c.z_axis.y);
+        let p1 = c01 * c01 + c02 * c02 + c12 * c12;
+        let q = (c00 + c11 + c22) / 3.0;
+        let p2 = (c00 - q).powi(2) + (c11 - q).powi(2) + (c22 - q).powi(2) + 2.0 * p1;
+        let p = (p2 / 6.0).sqrt();
+        if p <= 1e-15 * q.abs() {
+            return q.max(0.0).sqrt();
+        }
+        let b = (c - DMat3::from_diagonal(DVec3::splat(q))) * (1.0 / p);
+        let r = (0.5 * b.determinant()).clamp(-1.0, 1.0);
+        let phi = r.acos() / 3.0;
+        let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
+        smallest.max(0.0).sqrt()
+    }
     fn symmetric_eigen(m: DMat3) -> (DVec3, DMat3) {
         jacobi_eigen3(m)
     }
@@ -426,6 +462,34 @@ mod tests {
         for k in 1..D::D {
             assert!(D::component(vals, k - 1) <= D::component(vals, k));
         }
+    }
+
+    #[test]
+    fn min_singular_value_matches_the_eigen_solver_2d_and_3d() {
+        fn check<D: Dim>(m: D::Matrix) {
+            let c = D::transpose(m) * m;
+            let (vals, _) = D::symmetric_eigen(c);
+            let want = D::component(vals, 0).max(0.0).sqrt();
+            let got = D::min_singular_value(m);
+            // Tolerance: round-off of the closed forms relative to the largest stretch.
+            let scale = D::frobenius(m);
+            assert!(
+                (got - want).abs() <= 1e-12 * scale,
+                "{got} vs {want} for {m:?}"
+            );
+        }
+        check::<D2>(DMat2::from_cols_array(&[1.3, 0.2, -0.4, 0.7]));
+        check::<D2>(DMat2::from_diagonal(DVec2::new(2.0, 0.5)));
+        check::<D2>(DMat2::IDENTITY);
+        check::<D3>(DMat3::from_cols_array(&[
+            1.1, 0.3, -0.2, 0.05, 0.6, 0.4, -0.3, 0.1, 1.7,
+        ]));
+        check::<D3>(DMat3::from_diagonal(DVec3::new(0.5, 2.0, 1.0)));
+        check::<D3>(DMat3::IDENTITY);
+        // A rotation times a stretch: the stretch's smallest entry.
+        let rot = DMat3::from_rotation_z(0.7) * DMat3::from_rotation_x(-0.3);
+        let m = rot * DMat3::from_diagonal(DVec3::new(1.4, 0.35, 0.9));
+        assert!((D3::min_singular_value(m) - 0.35).abs() < 1e-12);
     }
 
     #[test]

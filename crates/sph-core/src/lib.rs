@@ -3,7 +3,8 @@
 //! The geometry of particles that every sph-solids method shares: the spatial dimension as a type
 //! ([`dim`]), smoothing kernels ([`kernel`]), neighbour search ([`neighbor`]), per-pair kernel data
 //! ([`pairs`]), the kernel-gradient correction matrix ([`correction`]), particle generators
-//! ([`generate`]), constraints, forces and probes a scene attaches ([`scene`]), the particle
+//! ([`generate`]), constraints, forces and probes a scene attaches ([`scene`]), rigid tools with
+//! frictionless contact ([`tool`]), quasi-static relaxation ([`relaxation`]), the particle
 //! disorder indicator ([`disorder`]), and the [`solver::Solver`] trait.
 //!
 //! Conventions (METHODS.md): particle `i`, neighbour `j`; `x_ij = x_i − x_j`, `e_ij = x_ij/r_ij`
@@ -21,13 +22,17 @@ pub mod generate;
 pub mod kernel;
 pub mod neighbor;
 pub mod pairs;
+pub mod relaxation;
 pub mod scene;
 pub mod solver;
+pub mod tool;
 
 pub use dim::{Dim, D2, D3};
 pub use error::Error;
 pub use kernel::{Kernel, WendlandC2};
 pub use neighbor::{CellGrid, NeighborList};
 pub use pairs::PairKernel;
+pub use relaxation::{PairwiseDamper, PairwiseDamping};
 pub use scene::{Constraint, Constraints, Loads, Probe, Series, TimeFunction};
 pub use solver::{EnergyBudget, Field, Solver, StepInfo};
+pub use tool::{RigidTool, ToolMotion, ToolShape};

@@ -61,29 +61,64 @@ pub enum Constraint<D: Dim> {
         /// Which components (x, y, z) are fixed.
         components: [bool; 3],
     },
+    /// Some velocity components prescribed by `v(t)`, the others free: a frictionless
+    /// (roller) grip that pulls along one axis and lets the particles slide along the others.
+    PrescribedComponents {
+        /// Constrained particle indices.
+        particles: Vec<u32>,
+        /// The velocity (only the selected components are imposed).
+        velocity: TimeFunction<D>,
+        /// Which components (x, y, z) are prescribed.
+        components: [bool; 3],
+    },
 }
 
 impl<D: Dim> Constraint<D> {
-    fn particles(&self) -> &[u32] {
+    /// The constrained particles.
+    pub fn particles(&self) -> &[u32] {
         match self {
             Constraint::Fixed { particles }
             | Constraint::PrescribedVelocity { particles, .. }
-            | Constraint::FixedComponents { particles, .. } => particles,
+            | Constraint::FixedComponents { particles, .. }
+            | Constraint::PrescribedComponents { particles, .. } => particles,
+        }
+    }
+
+    fn particles_mut(&mut self) -> &mut Vec<u32> {
+        match self {
+            Constraint::Fixed { particles }
+            | Constraint::PrescribedVelocity { particles, .. }
+            | Constraint::FixedComponents { particles, .. }
+            | Constraint::PrescribedComponents { particles, .. } => particles,
+        }
+    }
+
+    /// Which velocity components the constraint imposes (all for fixed and prescribed).
+    pub fn components(&self) -> [bool; 3] {
+        match self {
+            Constraint::Fixed { .. } | Constraint::PrescribedVelocity { .. } => [true; 3],
+            Constraint::FixedComponents { components, .. }
+            | Constraint::PrescribedComponents { components, .. } => *components,
         }
     }
 }
 
 /// The constraints of a body, applied in order (a later one overrides an earlier one on the
-/// same particle).
+/// same particle). A constraint may carry a name: a solver then records the reaction force it
+/// receives (a grip's pulling force) as the series `/series/<name>`.
 #[derive(Clone, Debug, Default)]
 pub struct Constraints<D: Dim> {
     list: Vec<Constraint<D>>,
+    names: Vec<Option<String>>,
 }
 
 impl<D: Dim> Constraints<D> {
     /// No constraints.
     pub fn new() -> Self {
-        Self { list: Vec::new() }
+        Self {
+            list: Vec::new(),
+            names: Vec::new(),
+        }
     }
 
     /// Adds a constraint, checking its particle indices against the body size `n`.
@@ -96,7 +131,59 @@ impl<D: Dim> Constraints<D> {
             ));
         }
         self.list.push(c);
+        self.names.push(None);
         Ok(())
+    }
+
+    /// Adds a named constraint (see [`Constraints::reactions`]).
+    pub fn push_named(&mut self, name: &str, c: Constraint<D>, n: usize) -> Result<(), Error> {
+        if name.is_empty() || self.names.iter().flatten().any(|x| x == name) {
+            return Err(Error::invalid(
+                "constraint name",
+                format!("{name:?}"),
+                "non-empty and unique among the body's constraints",
+            ));
+        }
+        self.push(c, n)?;
+        *self.names.last_mut().expect("just pushed") = Some(name.to_string());
+        Ok(())
+    }
+
+    /// The named constraints: `(index in the list, name)`.
+    pub fn named(&self) -> impl Iterator<Item = (usize, &str)> {
+        self.names
+            .iter()
+            .enumerate()
+            .filter_map(|(k, n)| n.as_deref().map(|n| (k, n)))
+    }
+
+    /// The `k`-th constraint.
+    pub fn get(&self, k: usize) -> Option<&Constraint<D>> {
+        self.list.get(k)
+    }
+
+    /// The reaction on each named constraint before it is imposed: `Σ_i m_i a_i` over its
+    /// particles and imposed components, with `a` the accelerations of every force on them —
+    /// the force the body exerts on the grip (quasi-statically, minus the force the grip
+    /// applies; the grip's own inertia `m a_prescribed` is not included). Same order as
+    /// [`Constraints::named`].
+    pub fn reactions(&self, a: &[D::Vector], masses: &[f64]) -> Vec<D::Vector> {
+        self.named()
+            .map(|(k, _)| {
+                let c = &self.list[k];
+                let comp = c.components();
+                let mut sum = D::zero();
+                for &i in c.particles() {
+                    sum += a[i as usize] * masses[i as usize];
+                }
+                for (k, &on) in comp.iter().enumerate().take(D::D) {
+                    if !on {
+                        D::set_component(&mut sum, k, 0.0);
+                    }
+                }
+                sum
+            })
+            .collect()
     }
 
     /// Whether there are no constraints.
@@ -135,6 +222,20 @@ impl<D: Dim> Constraints<D> {
                         zero_components::<D>(&mut v[i as usize], components);
                     }
                 }
+                Constraint::PrescribedComponents {
+                    particles,
+                    velocity,
+                    components,
+                } => {
+                    let value = velocity.at(t);
+                    for &i in particles {
+                        for (k, &on) in components.iter().enumerate().take(D::D) {
+                            if on {
+                                D::set_component(&mut v[i as usize], k, D::component(value, k));
+                            }
+                        }
+                    }
+                }
             }
         }
     }
@@ -153,6 +254,11 @@ impl<D: Dim> Constraints<D> {
                 Constraint::FixedComponents {
                     particles,
                     components,
+                }
+                | Constraint::PrescribedComponents {
+                    particles,
+                    components,
+                    ..
                 } => {
                     for &i in particles {
                         zero_components::<D>(&mut a[i as usize], components);
@@ -181,11 +287,7 @@ impl<D: Dim> Constraints<D> {
     /// Relabels particle indices after a reordering (`inv[old] = new`).
     pub fn remap(&mut self, inv: &[u32]) {
         for c in &mut self.list {
-            let p = match c {
-                Constraint::Fixed { particles }
-                | Constraint::PrescribedVelocity { particles, .. }
-                | Constraint::FixedComponents { particles, .. } => particles,
-            };
+            let p = c.particles_mut();
             for i in p.iter_mut() {
                 *i = inv[*i as usize];
             }
@@ -385,32 +487,55 @@ impl<D: Dim> Probe<D> {
     }
 }
 
-/// A vector time series a solver records (e.g. the contact force on a body); the driver writes
-/// it to `/series/<name>` of the results file.
-#[derive(Clone, Debug)]
-pub struct Series<D: Dim> {
+/// A recorded time series of named scalar columns: a tool's travel and reaction force, a
+/// grip's reaction, or any other figure a solver samples on the probe schedule. Written to the
+/// results file as `/series/<name>` (dataset `time` and one dataset per column).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Series {
     /// Name (the HDF5 group name).
     pub name: String,
-    /// Recorded times.
-    pub times: Vec<f64>,
-    /// Recorded values.
-    pub values: Vec<D::Vector>,
+    /// Column names.
+    pub columns: Vec<String>,
+    /// Sample times.
+    pub time: Vec<f64>,
+    /// `values[c][k]`: column `c` at sample `k`.
+    pub values: Vec<Vec<f64>>,
 }
 
-impl<D: Dim> Series<D> {
-    /// An empty series.
-    pub fn new(name: &str) -> Self {
+impl Series {
+    /// An empty series with these columns.
+    pub fn new(name: &str, columns: &[&str]) -> Self {
         Self {
             name: name.to_string(),
-            times: Vec::new(),
-            values: Vec::new(),
+            columns: columns.iter().map(|c| c.to_string()).collect(),
+            time: Vec::new(),
+            values: vec![Vec::new(); columns.len()],
         }
     }
 
-    /// Appends a sample.
-    pub fn push(&mut self, t: f64, value: D::Vector) {
-        self.times.push(t);
-        self.values.push(value);
+    /// Appends one sample (`row` has one value per column).
+    pub fn push(&mut self, t: f64, row: &[f64]) {
+        debug_assert_eq!(row.len(), self.columns.len());
+        self.time.push(t);
+        for (c, &x) in self.values.iter_mut().zip(row) {
+            c.push(x);
+        }
+    }
+
+    /// The values of column `name`, if present.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        let k = self.columns.iter().position(|c| c == name)?;
+        Some(&self.values[k])
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.time.len()
+    }
+
+    /// Whether nothing was recorded.
+    pub fn is_empty(&self) -> bool {
+        self.time.is_empty()
     }
 }
 

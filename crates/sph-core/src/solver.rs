@@ -109,6 +109,11 @@ pub trait Solver<D: Dim>: Send {
     /// The probes attached by the scene, with what they recorded.
     fn probes(&self) -> &[Probe<D>];
 
+    /// Other recorded time series (tool and grip reactions, ...); none by default.
+    fn series(&self) -> Vec<Series> {
+        Vec::new()
+    }
+
     /// Kinetic energy `Σ ½ m v²` and strain energy `Σ V⁰ ψ`, for methods with a strain energy.
     fn energies(&self) -> Option<(f64, f64)> {
         None
@@ -122,11 +127,6 @@ pub trait Solver<D: Dim>: Send {
     /// The energy budget (see [`EnergyBudget`]), for methods that keep one.
     fn energy_budget(&self) -> Option<EnergyBudget> {
         None
-    }
-
-    /// Vector time series the solver records (e.g. contact forces), written to `/series`.
-    fn series(&self) -> &[Series<D>] {
-        &[]
     }
 
     /// Advances until `time() ≥ t_end` (the last step is shortened to land on it). Returns the

@@ -51,12 +51,42 @@ pub trait Material<D: Dim>: Send + Sync {
     /// energy. For every law here `P = ∂ψ/∂F`, i.e. `S = 2 ∂ψ/∂C`.
     fn strain_energy_density(&self, f: D::Matrix) -> Option<f64>;
 
-    /// Volumetric Kirchhoff stress `(K/2)(J² − 1)` (TL paper eq. 11 and 13), the pressure-like
-    /// part the TL-HF formulation (eq. 25–28) takes from the material.
+    /// The TL-HF split of this law (TL paper eq. 25–28, generalised to any law): returns
+    /// `(τ_r, g)` where `τ_s = G g(J) b` is the shear Kirchhoff stress whose divergence TL-HF
+    /// takes as the Laplacian of position (eq. 26–27, with `g` in the place of `J^(−2/d)`) and
+    ///
+    /// `τ_r = τ(F) − G g [b − (tr b/d) I] − (ζ/d) G g tr(b) I`
+    ///
+    /// is the remaining Kirchhoff stress (eq. 28), whose divergence is taken without the
+    /// correction matrix. The law's whole stress is represented: `τ_r + G g b = τ(F) +
+    /// (1 − ζ)(G g/d) tr(b) I`, the last term being the paper's ζ-consistent isotropic part
+    /// that makes the two sums cancel in the undeformed state (`τ_r = −ζ G I` there).
+    /// `d = D::D` (`d = 2` in plane strain, as the paper).
+    ///
+    /// Default: `g = J^(−2/d)` (the paper's), `τ_r` by the formula, a full tensor. The paper's own
+    /// law ([`crate::KirchhoffVolDev`]) gives eq. 28 exactly (isotropic `τ_r`); neo-Hookean
+    /// takes `g = 1`, which makes its `τ_r` isotropic too.
     #[inline]
-    fn volumetric_kirchhoff(&self, j: f64) -> f64 {
-        0.5 * self.constants().bulk_modulus * (j * j - 1.0)
+    fn hf_split(&self, f: D::Matrix, zeta: f64) -> (D::Matrix, f64) {
+        hf_split_generic::<D, Self>(self, f, zeta)
     }
+}
+
+/// The generic TL-HF split of [`Material::hf_split`] with `g = J^(−2/d)`:
+/// `τ_r = τ(F) − G g b + (1 − ζ)(G g tr b/d) I`.
+#[inline]
+pub fn hf_split_generic<D: Dim, M: Material<D> + ?Sized>(
+    law: &M,
+    f: D::Matrix,
+    zeta: f64,
+) -> (D::Matrix, f64) {
+    let g = j_pow_minus_two_over(D::det(f), D::D);
+    let gs = law.constants().shear_modulus * g;
+    let b = f * D::transpose(f);
+    let tr_b = D::trace(b);
+    let tau =
+        law.kirchhoff_stress(f) - b * gs + D::identity() * ((1.0 - zeta) * gs * tr_b / D::D as f64);
+    (tau, g)
 }
 
 /// `m⁻¹`, or a matrix of NaN when `m` is singular (so a degenerate `F` surfaces as a non-finite

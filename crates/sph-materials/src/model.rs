@@ -183,7 +183,7 @@ impl<D: Dim> Material<D> for MaterialModel {
         dispatch!(self, m => Material::<D>::strain_energy_density(m, f))
     }
     #[inline]
-    fn volumetric_kirchhoff(&self, j: f64) -> f64 {
-        dispatch!(self, m => Material::<D>::volumetric_kirchhoff(m, j))
+    fn hf_split(&self, f: D::Matrix, zeta: f64) -> (D::Matrix, f64) {
+        dispatch!(self, m => Material::<D>::hf_split(m, f, zeta))
     }
 }

@@ -98,8 +98,52 @@ fn check_zero_at_identity<D: Dim>() {
         assert!(frob3(sigma) <= tol, "{name}: σ(I) = {sigma:?}");
         let psi = Material::<D>::strain_energy_density(&law, i).unwrap();
         assert!(psi.abs() <= tol, "{name}: ψ(I) = {psi}");
-        assert!(Material::<D>::volumetric_kirchhoff(&law, 1.0).abs() <= tol);
+        // TL-HF split at rest: τ_r = −ζ G I (eq. 28 at F = I), g = 1.
+        let (tau_r, g) = Material::<D>::hf_split(&law, i, 1.07);
+        let c = law_constants::<D>(&law);
+        let want = D::identity() * (-1.07 * c.shear_modulus);
+        assert!(
+            D::frobenius(tau_r - want) <= tol * c.shear_modulus,
+            "{name}: τ_r(I)"
+        );
+        assert!((g - 1.0).abs() <= 1e-15, "{name}: g(I)");
     }
+}
+
+// ---------------------------------------------------------------- the TL-HF split
+
+/// The split represents the law: `τ_r + G g b − (1 − ζ)(G g tr b/d) I = τ(F)` for any F
+/// (tolerance: round-off relative to the largest term).
+fn check_hf_split_represents_the_law<D: Dim>() {
+    let mut rng = Rng(0x1234_5678);
+    let zeta = 1.07;
+    for (name, law) in all_laws() {
+        let gmod = law_constants::<D>(&law).shear_modulus;
+        for _ in 0..20 {
+            let f = random_f::<D>(&mut rng, 0.4);
+            let (tau_r, g) = Material::<D>::hf_split(&law, f, zeta);
+            let b = f * D::transpose(f);
+            let back = tau_r + b * (gmod * g)
+                - D::identity() * ((1.0 - zeta) * gmod * g * D::trace(b) / D::D as f64);
+            let tau = Material::<D>::kirchhoff_stress(&law, f);
+            let scale = D::frobenius(tau) + gmod * D::frobenius(b);
+            assert!(
+                D::frobenius(back - tau) <= 1e-13 * scale,
+                "{name}: {:e}",
+                D::frobenius(back - tau) / scale
+            );
+        }
+    }
+}
+
+#[test]
+fn hf_split_represents_every_law_2d() {
+    check_hf_split_represents_the_law::<D2>();
+}
+
+#[test]
+fn hf_split_represents_every_law_3d() {
+    check_hf_split_represents_the_law::<D3>();
 }
 
 fn law_constants<D: Dim>(law: &MaterialModel) -> ElasticConstants {

@@ -10,7 +10,7 @@
 //! | `/meta` | one attribute per key of the run's metadata (see [JSON values](#json-values)) plus `json`, the whole map as a JSON string |
 //! | `/snapshots/<n>` | one group per snapshot, `n` = `000000`, `000001`, … (six digits, more only past 999 999, so the names sort lexically in time order), attributes `time` (f64) and `step` (u64), one dataset per field |
 //! | `/probes/<name>` | datasets `time` `[m]`, `position` `[m, 3]`, `velocity` `[m, 3]` (all f64) |
-//! | `/series/<name>` | datasets `time` `[m]`, `value` `[m, 3]` (f64): a vector time series the solver records, e.g. the contact force on a body (files written before this group existed have none; the reader then returns no series) |
+//! | `/series/<name>` | dataset `time` `[m]` and one f64 dataset `[m]` per column (a tool's or grip's travel and reaction force, …); since format version 2 |
 //! | `/summary` | one attribute per key of the run's summary plus `json`, the whole map as a JSON string |
 //!
 //! and a sidecar `<name>.xmf` (XDMF 3): a temporal collection of the snapshots, each a
@@ -103,7 +103,7 @@ pub use read::{read_file, FileContents, Probe, Series, Snapshot};
 /// Value of the root attribute `format`.
 pub const FORMAT_NAME: &str = "sph-solids-output";
 /// Value of the root attribute `format_version`.
-pub const FORMAT_VERSION: u64 = 1;
+pub const FORMAT_VERSION: u64 = 2;
 
 /// Writes one run's results file. Obtain one from [`create_writer`].
 ///
@@ -139,13 +139,14 @@ pub trait ResultWriter: Send {
         velocities: &[[f64; 3]],
     ) -> Result<(), OutputError>;
 
-    /// Writes the vector time series `name` as `/series/<name>/time|value` (e.g. a contact
-    /// force). The slices must have the same length; a series name may be written once.
+    /// Writes series `name` as `/series/<name>/time` plus one f64 dataset per column (names
+    /// unique, not `time`, free of `/`; each column as long as `times`). A series name may be
+    /// written once.
     fn write_series(
         &mut self,
         name: &str,
         times: &[f64],
-        values: &[[f64; 3]],
+        columns: &[(&str, &[f64])],
     ) -> Result<(), OutputError>;
 
     /// Writes the run's summary to `/summary`: one attribute per key plus the full map as the

@@ -42,13 +42,13 @@ pub struct Probe {
     pub velocities: Vec<[f64; 3]>,
 }
 
-/// One vector time series read back (`/series/<name>`).
+/// One series read back: `time` and the columns by name.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Series {
     /// `time`.
     pub times: Vec<f64>,
-    /// `value`, one row per time.
-    pub values: Vec<[f64; 3]>,
+    /// The other datasets of the group, by name.
+    pub columns: BTreeMap<String, Vec<f64>>,
 }
 
 /// Everything in a results file.
@@ -60,7 +60,7 @@ pub struct FileContents {
     pub snapshots: Vec<Snapshot>,
     /// `/probes/*` by name.
     pub probes: BTreeMap<String, Probe>,
-    /// `/series/*` by name (empty for files written before the group existed).
+    /// `/series/*` by name (empty for files of format version 1, which have none).
     pub series: BTreeMap<String, Series>,
     /// `/summary` (from its `json` attribute; empty if never written).
     pub summary: Map<String, Value>,
@@ -123,16 +123,6 @@ pub fn read_file(path: impl AsRef<Path>) -> Result<FileContents, OutputError> {
         });
     }
 
-    let f64s = |p: &str, d: &str| -> Result<Vec<f64>, OutputError> {
-        match read_dataset(&file, path, p, d)?.data {
-            DatasetData::F64 { values, .. } => Ok(values),
-            DatasetData::U64 { .. } => {
-                Err(OutputError::layout(path, format!("/{p} should be f64")))
-            }
-        }
-    };
-    let rows =
-        |v: Vec<f64>| -> Vec<[f64; 3]> { v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect() };
     let probes_group = file
         .group("probes")
         .map_err(|e| err(path, "open /probes", e))?;
@@ -141,7 +131,18 @@ pub fn read_file(path: impl AsRef<Path>) -> Result<FileContents, OutputError> {
         .groups()
         .map_err(|e| err(path, "list /probes", e))?
     {
-        let f = |d: &str| f64s(&format!("probes/{name}/{d}"), d);
+        let f = |d: &str| -> Result<Vec<f64>, OutputError> {
+            let p = format!("probes/{name}/{d}");
+            match read_dataset(&file, path, &p, d)?.data {
+                DatasetData::F64 { values, .. } => Ok(values),
+                DatasetData::U64 { .. } => {
+                    Err(OutputError::layout(path, format!("/{p} should be f64")))
+                }
+            }
+        };
+        let rows = |v: Vec<f64>| -> Vec<[f64; 3]> {
+            v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+        };
         let probe = Probe {
             times: f("time")?,
             positions: rows(f("position")?),
@@ -149,16 +150,32 @@ pub fn read_file(path: impl AsRef<Path>) -> Result<FileContents, OutputError> {
         };
         probes.insert(name, probe);
     }
+
     let mut series = BTreeMap::new();
-    // Files written before `/series` existed have no such group.
     if let Ok(group) = file.group("series") {
         for name in group.groups().map_err(|e| err(path, "list /series", e))? {
-            let f = |d: &str| f64s(&format!("series/{name}/{d}"), d);
-            let s = Series {
-                times: f("time")?,
-                values: rows(f("value")?),
-            };
-            series.insert(name, s);
+            let g = file
+                .group(&format!("series/{name}"))
+                .map_err(|e| err(path, format!("open /series/{name}"), e))?;
+            let mut columns = BTreeMap::new();
+            for d in g
+                .datasets()
+                .map_err(|e| err(path, format!("list /series/{name}"), e))?
+            {
+                let p = format!("series/{name}/{d}");
+                match read_dataset(&file, path, &p, &d)?.data {
+                    DatasetData::F64 { values, .. } => {
+                        columns.insert(d, values);
+                    }
+                    DatasetData::U64 { .. } => {
+                        return Err(OutputError::layout(path, format!("/{p} should be f64")))
+                    }
+                }
+            }
+            let times = columns.remove("time").ok_or_else(|| {
+                OutputError::layout(path, format!("/series/{name} has no `time` dataset"))
+            })?;
+            series.insert(name, Series { times, columns });
         }
     }
 

@@ -234,7 +234,7 @@ impl ResultWriter for LayoutWriter {
         &mut self,
         name: &str,
         times: &[f64],
-        values: &[[f64; 3]],
+        columns: &[(&str, &[f64])],
     ) -> Result<(), OutputError> {
         check_name(name)
             .map_err(|e| OutputError::invalid(&self.tmp, format!("series name {name:?}: {e}")))?;
@@ -244,23 +244,34 @@ impl ResultWriter for LayoutWriter {
                 format!("series {name:?} written twice"),
             ));
         }
-        if values.len() != times.len() {
-            return Err(OutputError::invalid(
-                &self.tmp,
-                format!(
-                    "series {name:?}: {} times, {} values (must be equal)",
-                    times.len(),
-                    values.len()
-                ),
-            ));
+        let mut sets = vec![Dataset::scalars("time", times)];
+        for (c, values) in columns {
+            check_name(c).map_err(|e| {
+                OutputError::invalid(&self.tmp, format!("series {name:?} column {c:?}: {e}"))
+            })?;
+            if *c == "time" || sets.iter().any(|d| d.name == *c) {
+                return Err(OutputError::invalid(
+                    &self.tmp,
+                    format!("series {name:?}: column {c:?} repeated or named `time`"),
+                ));
+            }
+            if values.len() != times.len() {
+                return Err(OutputError::invalid(
+                    &self.tmp,
+                    format!(
+                        "series {name:?} column {c:?}: {} values for {} times",
+                        values.len(),
+                        times.len()
+                    ),
+                ));
+            }
+            sets.push(Dataset::scalars(*c, values));
         }
-        let t = Dataset::scalars("time", times);
-        let v = Dataset::vectors("value", values);
         self.sink.write_group(
             &GroupSpec {
                 path: format!("series/{name}"),
                 attrs: Vec::new(),
-                datasets: vec![&t, &v],
+                datasets: sets.iter().collect(),
             },
             false,
         )?;

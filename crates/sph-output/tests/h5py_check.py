@@ -5,8 +5,8 @@ Usage: h5py_check.py A.h5 B.h5   (exit 0 when identical, 1 otherwise)
 
 Compares, with h5py, the root attributes, /meta and /summary attributes (names, dtypes,
 values), every /snapshots/<n> (attributes time and step, dataset names, dtypes, shapes and
-bit-identical values), every /probes/<name>/{time,position,velocity} and every
-/series/<name>/{time,value}. Also checks the layout itself (the top-level groups, the `json` attributes parse as JSON objects,
+bit-identical values) and every /probes/<name>/{time,position,velocity}. Also checks the
+layout itself (the four top-level groups, the `json` attributes parse as JSON objects,
 position is [n, 3]) so that two files both wrong in the same way do not pass.
 """
 import json
@@ -55,7 +55,7 @@ def compare_datasets(where, a, b):
 
 
 def check_layout(name, f):
-    for g in ("meta", "snapshots", "probes", "summary"):
+    for g in ("meta", "snapshots", "probes", "series", "summary"):
         if not isinstance(f.get(g), h5py.Group):
             fail(f"{name}: missing group /{g}")
             return False
@@ -75,10 +75,12 @@ def check_layout(name, f):
         for d in ("time", "position", "velocity"):
             if d not in grp:
                 fail(f"{name}: /probes/{p} has no {d}")
-    for p, grp in f.get("series", {}).items():
-        for d in ("time", "value"):
-            if d not in grp:
-                fail(f"{name}: /series/{p} has no {d}")
+    for p, grp in f["series"].items():
+        if "time" not in grp:
+            fail(f"{name}: /series/{p} has no time")
+        for d, ds in grp.items():
+            if ds.shape != grp["time"].shape:
+                fail(f"{name}: /series/{p}/{d} is not as long as its time")
     return True
 
 
@@ -90,8 +92,6 @@ def main(pa, pb):
         for g in ("meta", "summary"):
             compare_attrs(f"/{g}", a[g], b[g])
         for top in ("snapshots", "probes", "series"):
-            if top not in a and top not in b:
-                continue
             na, nb = sorted(a[top].keys()), sorted(b[top].keys())
             if na != nb:
                 fail(f"/{top}: members differ: {na} vs {nb}")
@@ -107,7 +107,7 @@ def main(pa, pb):
                     compare_datasets(f"/{top}/{n}/{d}", ga[d], gb[d])
         print(
             f"h5py {h5py.__version__}: compared {len(a['snapshots'])} snapshots, "
-            f"{len(a['probes'])} probes, meta and summary"
+            f"{len(a['probes'])} probes, {len(a['series'])} series, meta and summary"
         )
 
 

@@ -6,6 +6,13 @@
 //! the correction matrix: then the ζ terms of the two parts cancel exactly in the undeformed
 //! state, free surfaces included, and a body at rest stays at rest (METHODS.md). `d` is the
 //! spatial dimension (`d = 2` in plane strain, as the paper uses it).
+//!
+//! The paper writes the split for its own law (TL eq. 10–14, [`sph_materials::KirchhoffVolDev`]).
+//! Any other law is split the same way ([`Material::hf_split`]): the Laplacian carries
+//! `τ_s = G g(J) b` and the remainder `τ_r = τ(F) − τ_s + …` goes through eq 20 without `B`, so
+//! the scheme represents the chosen law (neo-Hookean takes `g = 1`, which keeps `τ_r`
+//! isotropic as in the paper; for a law whose deviator is not `G g b`, `τ_r` carries the
+//! difference).
 
 use crate::damping::damping_kirchhoff;
 use crate::original::nan_matrix;
@@ -16,20 +23,10 @@ use sph_materials::Material;
 /// Default ζ = 1.07 (TL paper §4, for the Wendland C2 kernel with h = 1.15 dp).
 pub const DEFAULT_ZETA: f64 = 1.07;
 
-/// `J^(−2/d)` (eq 25–27).
-#[inline(always)]
-pub fn isochoric_factor<D: Dim>(j: f64) -> f64 {
-    if D::D == 2 {
-        1.0 / j
-    } else {
-        j.powf(-2.0 / 3.0)
-    }
-}
-
-/// Eq 28: the remaining Kirchhoff stress
-/// `τ_r = [(K/2)(J² − 1) − (ζ/d) G J^(−2/d) tr(b)] I + τ_d`, returned as `P_r = τ_r F⁻ᵀ`,
-/// together with `J^(−2/d)` for eq 27. The volumetric term is the material's
-/// [`Material::volumetric_kirchhoff`].
+/// Eq 28: the remaining Kirchhoff stress `τ_r` of the material's HF split
+/// ([`Material::hf_split`]: for the paper's law `[(K/2)(J² − 1) − (ζ/d) G J^(−2/d) tr(b)] I`)
+/// plus the damping stress `τ_d`, returned as `P_r = τ_r F⁻ᵀ`, together with the factor `g`
+/// (`J^(−2/d)` for the paper's law) of the shear stress `τ_s = G g b` for eq 27.
 #[inline(always)]
 pub fn remaining_piola<D: Dim, M: Material<D>>(
     material: &M,
@@ -38,17 +35,12 @@ pub fn remaining_piola<D: Dim, M: Material<D>>(
     f: D::Matrix,
     f_dot: D::Matrix,
 ) -> (D::Matrix, f64) {
-    let j = D::det(f);
-    let jf = isochoric_factor::<D>(j);
-    let g = material.constants().shear_modulus;
-    let tr_b = D::ddot(f, f);
-    let iso = material.volumetric_kirchhoff(j) - zeta / D::D as f64 * g * jf * tr_b;
-    let mut tau = D::identity() * iso;
+    let (mut tau, g) = material.hf_split(f, zeta);
     if gamma > 0.0 {
         tau += damping_kirchhoff::<D>(gamma, f, f_dot);
     }
     let f_inv_t = D::transpose(D::try_inverse(f).unwrap_or_else(nan_matrix::<D>));
-    (tau * f_inv_t, jf)
+    (tau * f_inv_t, g)
 }
 
 /// Eq 29 in one pass over each particle's neighbours: the remaining-stress divergence (eq 20
@@ -81,25 +73,4 @@ pub fn acceleration<D: Dim>(
         }
         *a = div * inv_density + shear * zeta_g_over_rho;
     });
-}
-
-/// The full Kirchhoff stress the HF scheme represents (eq 25 without damping):
-/// `τ = (K/2)(J² − 1) I + G J^(−2/d) (b − tr(b)/d I)`, as 3×3; in 2D `τ_zz` is the volumetric
-/// part (the in-plane deviator with d = 2 has no out-of-plane component). For output.
-pub fn kirchhoff_stress_3d<D: Dim, M: Material<D>>(material: &M, f: D::Matrix) -> glam::DMat3 {
-    let j = D::det(f);
-    let jf = isochoric_factor::<D>(j);
-    let g = material.constants().shear_modulus;
-    let b = f * D::transpose(f);
-    let vol = material.volumetric_kirchhoff(j);
-    let tau = D::identity() * (vol - g * jf * D::trace(b) / D::D as f64) + b * (g * jf);
-    D::to_mat3(tau, vol)
-}
-
-/// Strain energy density of the HF scheme's law (TL paper eq 10–12):
-/// `ψ = (K/2)[(J² − 1)/2 − ln J] + (G/2)(J^(−2/d) tr b − d)`.
-pub fn strain_energy<D: Dim>(bulk: f64, shear: f64, f: D::Matrix) -> f64 {
-    let j = D::det(f);
-    0.5 * bulk * (0.5 * (j * j - 1.0) - j.ln())
-        + 0.5 * shear * (isochoric_factor::<D>(j) * D::ddot(f, f) - D::D as f64)
 }

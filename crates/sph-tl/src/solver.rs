@@ -11,8 +11,10 @@ use sph_core::disorder::disorder_indicator;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
 use sph_core::pairs::pair_kernels;
-use sph_core::scene::ProbeSchedule;
+use sph_core::relaxation::{PairwiseDamper, PairwiseDamping};
+use sph_core::scene::{ProbeSchedule, Series};
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
+use sph_core::tool::{ReactionMeter, RigidTool};
 use sph_core::{
     Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe, Solver,
     StepInfo, WendlandC2,
@@ -86,6 +88,14 @@ pub struct TlParams {
     /// signals |a| > 10⁶ c²/h, a collapsed pair of particles or an inverted element, and going on
     /// would only take a million steps to get nowhere.
     pub min_dt_ratio: f64,
+    /// Scale the acoustic time step of eq 33 by the smallest principal stretch over the
+    /// particles, `Δt = CFL · min(σ_min h/(c + |v|max), √(h/|a|max))`. Eq 33 measures the
+    /// particle spacing in the reference configuration; under strong compression the current
+    /// spacing (and with it the stable step) shrinks by `σ_min(F)` while the wave speed stays
+    /// at least `c`: measured on the punching strip (H/dp 20, neo-Hookean, ν 0.45), eq 33 as
+    /// printed blows up before 30 % compression, with this it runs to 50 %. Default off (the
+    /// paper's eq 33); the quasi-static extreme cases turn it on (key `dt_stretch`).
+    pub stretch_limited_dt: bool,
 }
 
 impl Default for TlParams {
@@ -96,6 +106,7 @@ impl Default for TlParams {
             damping: true,
             correction_min_eigenvalue: DEFAULT_MIN_EIGENVALUE,
             min_dt_ratio: 1e-3,
+            stretch_limited_dt: false,
         }
     }
 }
@@ -118,8 +129,7 @@ pub struct TlBody<D: Dim> {
 pub struct Energy {
     /// `Σ ½ m v²`.
     pub kinetic: f64,
-    /// `Σ V⁰ ψ(F)` (the HF variant uses the energy of its volumetric–deviatoric law; the GM
-    /// penalty has no energy and is not included).
+    /// `Σ V⁰ ψ(F)` of the material's law (the GM penalty has no energy and is not included).
     pub strain: f64,
 }
 
@@ -181,10 +191,28 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     loads: Loads<D>,
     probes: Vec<Probe<D>>,
     schedule: ProbeSchedule,
+    /// Rigid tools in frictionless contact with the body, their reaction meters and series.
+    tools: Vec<RigidTool<D>>,
+    tool_meters: Vec<ReactionMeter<D>>,
+    /// Reaction meters of the named constraints (grips), in `Constraints::named` order.
+    grip_meters: Vec<ReactionMeter<D>>,
+    /// Tool series, then grip series.
+    series: Vec<Series>,
+    /// Quasi-static relaxation (pairwise damping), if attached.
+    relaxation: Option<PairwiseDamper>,
+    /// Particles in contact with each tool in the last step.
+    tool_contacts: Vec<usize>,
+    /// Axes along which the centre of mass of the free particles is held still.
+    held_axes: [bool; 3],
+    dp: f64,
     time: f64,
     steps: u64,
     max_speed: f64,
     max_acceleration: f64,
+    /// Smallest and largest principal stretch over the free particles (only tracked when the
+    /// time step or the tools need them; 1 otherwise).
+    min_stretch: f64,
+    max_stretch: f64,
 }
 
 impl<D: Dim, M: Material<D>> TlSolver<D, M> {
@@ -338,10 +366,20 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             loads: Loads::new(),
             probes: Vec::new(),
             schedule: ProbeSchedule::every(0.0)?,
+            tools: Vec::new(),
+            tool_meters: Vec::new(),
+            grip_meters: Vec::new(),
+            series: Vec::new(),
+            relaxation: None,
+            tool_contacts: Vec::new(),
+            held_axes: [false; 3],
+            dp: body.dp,
             time: 0.0,
             steps: 0,
             max_speed: 0.0,
             max_acceleration: 0.0,
+            min_stretch: 1.0,
+            max_stretch: 1.0,
         };
         solver.refresh_rates();
         Ok(solver)
@@ -349,6 +387,8 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
 
     /// Attaches the constraints (applied to velocities and accelerations at the points of the
     /// scheme the paper prescribes); constrained particles are excluded from the time-step maxima.
+    /// Named constraints (grips) record the reaction force they receive as a series
+    /// `/series/<name>` with the mean position of their particles.
     pub fn with_constraints(mut self, constraints: Constraints<D>) -> Self {
         self.free = constraints
             .prescribed_mask(self.len())
@@ -356,8 +396,149 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             .map(|c| !c)
             .collect();
         self.constraints = constraints;
+        self.grip_meters = vec![ReactionMeter::default(); self.constraints.named().count()];
+        self.rebuild_series();
         self.refresh_rates();
         self
+    }
+
+    /// Attaches rigid tools in frictionless kinematic contact with the body (see
+    /// [`sph_core::tool`]): contact offset `dp/2`, applied after the velocity update, looking
+    /// ahead one step from the half-step positions. Each tool records its travel and the mean reaction force it
+    /// receives over each probe interval as the series `/series/<name>`.
+    ///
+    /// # Errors
+    /// Two tools (or a tool and a named constraint) with the same name.
+    pub fn with_tools(mut self, tools: Vec<RigidTool<D>>) -> Result<Self, Error> {
+        let mut names: Vec<&str> = self.constraints.named().map(|(_, n)| n).collect();
+        for t in &tools {
+            if t.name.is_empty() || names.contains(&t.name.as_str()) {
+                return Err(Error::invalid(
+                    "tool name",
+                    format!("{:?}", t.name),
+                    "non-empty and unique among the body's tools and named constraints",
+                ));
+            }
+            names.push(&t.name);
+        }
+        self.tool_meters = vec![ReactionMeter::default(); tools.len()];
+        self.tools = tools;
+        self.rebuild_series();
+        self.update_stretch_extremes();
+        Ok(self)
+    }
+
+    /// Attaches the quasi-static relaxation of the TL paper's punching and pulling cases (the
+    /// splitting random-choice pairwise damping, [`sph_core::relaxation`]) over the reference
+    /// neighbour list, applied to the velocities right after their update (before contact and
+    /// constraints), as SPHinXsys applies it between the two halves of the step.
+    ///
+    /// # Errors
+    /// Invalid damping parameters.
+    pub fn with_relaxation(mut self, damping: PairwiseDamping) -> Result<Self, Error> {
+        self.relaxation = Some(PairwiseDamper::new(
+            damping,
+            &self.list,
+            &self.pairs,
+            &self.volumes,
+        )?);
+        Ok(self)
+    }
+
+    /// Holds the centre of mass of the free particles still along the selected axes: after
+    /// each velocity update, the free particles' mass-weighted mean velocity along those axes
+    /// is removed. For a body whose rigid motion nothing else fixes and whose symmetric state
+    /// is unstable (a strip between frictionless punches slides sideways once it wraps around
+    /// their corners): a symmetry condition on the rigid mode only, which leaves the
+    /// deformation free. It acts like an external force, so momentum along those axes is not
+    /// conserved but held at its value (zero for a body at rest).
+    pub fn with_centre_held(mut self, axes: [bool; 3]) -> Self {
+        self.held_axes = axes;
+        self
+    }
+
+    /// Removes the free particles' mean velocity along the held axes (sequential sums: the
+    /// same result whatever the thread count).
+    fn hold_centre(&mut self) {
+        if !self.held_axes.iter().take(D::D).any(|&a| a) {
+            return;
+        }
+        let (mut p, mut m) = (D::zero(), 0.0);
+        for ((&v, &mi), &free) in self.velocities.iter().zip(&self.masses).zip(&self.free) {
+            if free {
+                p += v * mi;
+                m += mi;
+            }
+        }
+        let mut mean = p / m;
+        for (k, &held) in self.held_axes.iter().enumerate().take(D::D) {
+            if !held {
+                D::set_component(&mut mean, k, 0.0);
+            }
+        }
+        for (v, &free) in self.velocities.iter_mut().zip(&self.free) {
+            if free {
+                *v -= mean;
+            }
+        }
+    }
+
+    /// Empty series for the tools and named constraints, with a first row at the current time.
+    fn rebuild_series(&mut self) {
+        let axes: &[&str] = if D::D == 2 {
+            &["force_x", "force_y"]
+        } else {
+            &["force_x", "force_y", "force_z"]
+        };
+        let mut series = Vec::new();
+        for t in &self.tools {
+            let mut columns = vec!["displacement"];
+            columns.extend_from_slice(axes);
+            columns.push("contacts");
+            series.push(Series::new(&t.name, &columns));
+        }
+        let pos: &[&str] = if D::D == 2 {
+            &["x", "y"]
+        } else {
+            &["x", "y", "z"]
+        };
+        for (_, name) in self.constraints.named() {
+            let mut columns = pos.to_vec();
+            columns.extend_from_slice(axes);
+            series.push(Series::new(name, &columns));
+        }
+        self.series = series;
+        self.tool_contacts = vec![0; self.tools.len()];
+        self.record_series();
+    }
+
+    /// Appends one row to every series: tools' travel, mean reactions since the last row.
+    fn record_series(&mut self) {
+        let t = self.time;
+        let mut row = Vec::with_capacity(8);
+        for (k, tool) in self.tools.iter().enumerate() {
+            row.clear();
+            row.push(tool.motion.distance(t));
+            let f = self.tool_meters[k].take_mean();
+            row.extend((0..D::D).map(|c| D::component(f, c)));
+            row.push(self.tool_contacts[k] as f64);
+            self.series[k].push(t, &row);
+        }
+        let offset = self.tools.len();
+        let named: Vec<usize> = self.constraints.named().map(|(k, _)| k).collect();
+        for (g, k) in named.into_iter().enumerate() {
+            let particles = self.constraints.get(k).expect("named").particles();
+            let mut mean = D::zero();
+            for &i in particles {
+                mean += self.positions[i as usize];
+            }
+            mean = mean / particles.len().max(1) as f64;
+            row.clear();
+            row.extend((0..D::D).map(|c| D::component(mean, c)));
+            let f = self.grip_meters[g].take_mean();
+            row.extend((0..D::D).map(|c| D::component(f, c)));
+            self.series[offset + g].push(t, &row);
+        }
     }
 
     /// Attaches body accelerations and point forces.
@@ -399,7 +580,59 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         self.positions = x;
         self.velocities = v;
         self.refresh_rates();
+        self.update_stretch_extremes();
         Ok(())
+    }
+
+    /// Frictionless kinematic contact with every tool after a velocity update of step `dt`:
+    /// the new velocity drifts the particles for Δt (this step's second half-drift and the
+    /// next step's first) before it changes again, so the contact looks ahead by Δt from
+    /// `x^{n+1/2}`, with the tool where it will be then. Contact offset: the deformed half cell
+    /// `(dp/2)|Fᵀn|`. Adds each tool's impulse on the body to `impulses`; `count` records the
+    /// particles in contact.
+    fn enforce_tool_contact(&mut self, dt: f64, impulses: &mut [D::Vector], count: bool) {
+        let t_end = self.time + 1.5 * dt;
+        let (half_dp, deformation) = (0.5 * self.dp, &self.deformation);
+        let offset = |i: usize, n: D::Vector| half_dp * D::norm(D::transpose(deformation[i]) * n);
+        for (k, tool) in self.tools.iter().enumerate() {
+            let out = tool.enforce_contact(
+                t_end,
+                dt,
+                offset,
+                half_dp * self.max_stretch,
+                &self.positions,
+                &mut self.velocities,
+                &self.masses,
+                &self.free,
+            );
+            impulses[k] += out.impulse;
+            if count {
+                self.tool_contacts[k] = out.active;
+            }
+        }
+    }
+
+    /// The smallest principal stretch (for [`TlParams::stretch_limited_dt`]) and the largest
+    /// cell half-width factor (for the tools' contact reach) over the free particles, when
+    /// either is in use. Max and min are exact, so the parallel reduction is deterministic.
+    fn update_stretch_extremes(&mut self) {
+        if self.params.stretch_limited_dt {
+            self.min_stretch = self
+                .deformation
+                .par_iter()
+                .zip(&self.free)
+                .filter(|(_, &f)| f)
+                .map(|(&m, _)| D::min_singular_value(m))
+                .reduce(|| 1.0, f64::min);
+        }
+        if !self.tools.is_empty() {
+            // |Fᵀ n| ≤ ‖F‖_F: a bound on every particle's contact offset factor.
+            self.max_stretch = self
+                .deformation
+                .par_iter()
+                .map(|&m| D::frobenius(m))
+                .reduce(|| 1.0, f64::max);
+        }
     }
 
     /// Recomputes `Ḟ` from the current velocities and the speed maximum (after a state change).
@@ -570,20 +803,11 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// Kinetic and strain energy.
     pub fn energy(&self) -> Energy {
         let kinetic = diagnostics::kinetic_energy::<D>(&self.velocities, &self.masses);
-        let c = *self.material.constants();
         let strain = self
             .deformation
             .iter()
             .zip(&self.volumes)
-            .map(|(&f, &v)| {
-                let psi = match self.shear {
-                    Shear::HourglassFree { .. } => {
-                        hourglass_free::strain_energy::<D>(c.bulk_modulus, c.shear_modulus, f)
-                    }
-                    _ => self.material.strain_energy_density(f).unwrap_or(f64::NAN),
-                };
-                v * psi
-            })
+            .map(|(&f, &v)| v * self.material.strain_energy_density(f).unwrap_or(f64::NAN))
             .sum();
         Energy { kinetic, strain }
     }
@@ -599,14 +823,10 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         )
     }
 
-    /// Cauchy stress (3×3, elastic part) of particle `i`'s law.
+    /// Cauchy stress (3×3, elastic part) of the law (every variant represents the material's
+    /// law; see [`hourglass_free`] for the HF split).
     fn cauchy_3d(&self, f: D::Matrix) -> glam::DMat3 {
-        match self.shear {
-            Shear::HourglassFree { .. } => {
-                hourglass_free::kirchhoff_stress_3d::<D, M>(&self.material, f) / D::det(f)
-            }
-            _ => self.material.cauchy_stress_3d(f),
-        }
+        self.material.cauchy_stress_3d(f)
     }
 }
 
@@ -647,6 +867,14 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             self.loads
                 .add_accelerations(self.time + half, &self.masses, &mut self.accelerations);
         }
+        if !self.grip_meters.is_empty() {
+            let reactions = self
+                .constraints
+                .reactions(&self.accelerations, &self.masses);
+            for (m, r) in self.grip_meters.iter_mut().zip(reactions) {
+                m.add(r, dt);
+            }
+        }
         self.constraints
             .apply_to_accelerations(&mut self.accelerations);
         // Eq 31: velocities to the full step.
@@ -654,6 +882,31 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             .par_iter_mut()
             .zip(&self.accelerations)
             .for_each(|(v, &a)| *v += a * dt);
+        // Frictionless contact with the tools, then the quasi-static relaxation of the
+        // admissible velocities, then contact again if the relaxation ran (it may have pulled a
+        // touching particle toward a tool). Relaxing before the contact would spread the
+        // surface rows' transient velocity, which the contact is about to remove, into the
+        // interior: a pump of spurious momentum (measured: kinetic energy growing 40× on the
+        // punching strip).
+        let mut impulses = vec![D::zero(); self.tools.len()];
+        self.enforce_tool_contact(dt, &mut impulses, true);
+        let relaxed = match &self.relaxation {
+            Some(damper) => damper.apply::<D>(
+                self.steps,
+                dt,
+                &mut self.velocities,
+                &self.masses,
+                &self.free,
+            ),
+            None => false,
+        };
+        if relaxed {
+            self.enforce_tool_contact(dt, &mut impulses, false);
+        }
+        for (meter, impulse) in self.tool_meters.iter_mut().zip(impulses) {
+            meter.add(-impulse / dt, dt);
+        }
+        self.hold_centre();
         self.time += dt;
         self.steps += 1;
         // Eq 22 with v^{n+1}, then eq 32.
@@ -666,9 +919,11 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             half,
         );
         self.max_acceleration = diagnostics::max_norm_where::<D>(&self.accelerations, &self.free);
+        self.update_stretch_extremes();
         self.check_finite()?;
-        if !self.probes.is_empty() && self.schedule.due(self.time) {
+        if !(self.probes.is_empty() && self.series.is_empty()) && self.schedule.due(self.time) {
             self.record_probes();
+            self.record_series();
         }
         Ok(StepInfo {
             dt,
@@ -677,10 +932,12 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         })
     }
 
-    /// Eq 33: `Δt = CFL · min(h/(c + |v|max), √(h/|a|max))` over unconstrained particles.
+    /// Eq 33: `Δt = CFL · min(h/(c + |v|max), √(h/|a|max))` over unconstrained particles (the
+    /// acoustic part scaled by the smallest principal stretch with
+    /// [`TlParams::stretch_limited_dt`]).
     fn stable_dt(&self) -> f64 {
         let h = self.kernel.h();
-        let acoustic = h / (self.sound_speed + self.max_speed);
+        let acoustic = self.min_stretch * h / (self.sound_speed + self.max_speed);
         let force = if self.max_acceleration > 0.0 {
             (h / self.max_acceleration).sqrt()
         } else {
@@ -733,6 +990,10 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
 
     fn probes(&self) -> &[Probe<D>] {
         &self.probes
+    }
+
+    fn series(&self) -> Vec<Series> {
+        self.series.clone()
     }
 
     fn energies(&self) -> Option<(f64, f64)> {

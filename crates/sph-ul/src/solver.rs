@@ -211,7 +211,7 @@ pub struct UlSolver<D: Dim> {
     /// Contact between bodies (`None`: one body).
     contact: Option<Contact<D>>,
     /// Contact force on each body, recorded with the probes.
-    series: Vec<Series<D>>,
+    series: Vec<Series>,
     // Energy budget: work accumulated since t = 0, the total at t = 0, and per particle the
     // Riemann-dissipation and artificial-stress accelerations of the last force evaluation
     // and the load accelerations.
@@ -441,7 +441,8 @@ impl<D: Dim> UlSolver<D> {
     /// `a_i −= (2/m_i) Σ_j ½(p_c,i + p_c,j) V_i V_j W′_ij e_ij` (`κ` =
     /// [`UlParams::contact_scale`]) — antisymmetric per pair, so momentum is conserved;
     /// repulsive only (bodies separate freely). The contact force on each body is recorded
-    /// with the probes as the series `contact_force_<body>` ([`Solver::series`]).
+    /// with the probes as the series `contact_force_<body>` with columns `x`, `y` (, `z`)
+    /// ([`Solver::series`]).
     ///
     /// # Errors
     /// `body_of` not one entry per particle.
@@ -462,7 +463,7 @@ impl<D: Dim> UlSolver<D> {
         let dp = self.kernel.h() / self.params.h_over_dp;
         let contact = Contact::new(body, self.kernel.w(dp), self.params.contact_scale, self.c0);
         self.series = (0..contact.bodies)
-            .map(|b| Series::new(&format!("contact_force_{b}")))
+            .map(|b| Series::new(&format!("contact_force_{b}"), &AXES[..D::D]))
             .collect();
         self.contact = Some(contact);
         self.rebuild()?;
@@ -494,7 +495,7 @@ impl<D: Dim> UlSolver<D> {
         }
         self.probes = probes;
         for s in &mut self.series {
-            *s = Series::new(&s.name);
+            *s = Series::new(&s.name, &AXES[..D::D]);
         }
         if self.schedule.due(self.time) {
             self.record_probes();
@@ -996,7 +997,8 @@ impl<D: Dim> UlSolver<D> {
         }
         if let Some(c) = &self.contact {
             for (s, f) in self.series.iter_mut().zip(c.body_forces(&self.masses)) {
-                s.push(self.time, f);
+                let row: Vec<f64> = (0..D::D).map(|k| D::component(f, k)).collect();
+                s.push(self.time, &row);
             }
         }
     }
@@ -1248,6 +1250,9 @@ impl<D: Dim> UlSolver<D> {
     }
 }
 
+/// Column names of the contact-force series (the force's components).
+const AXES: [&str; 3] = ["x", "y", "z"];
+
 /// Bodies smaller than this run the neighbour gathers on the calling thread (as
 /// `sph_mps::wls::PARALLEL_THRESHOLD`): below it the hand-off to the rayon pool costs more than
 /// the loop. Results are identical either way (gathers write only their own entry and sum in
@@ -1476,7 +1481,7 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         self.params.energy_budget.then(|| self.energy_budget_now())
     }
 
-    fn series(&self) -> &[Series<D>] {
-        &self.series
+    fn series(&self) -> Vec<Series> {
+        self.series.clone()
     }
 }

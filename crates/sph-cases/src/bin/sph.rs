@@ -214,8 +214,13 @@ fn run(
         write_atomically(path, &text)?;
     }
     for (k, v) in &summary {
-        if k != "monitor" {
-            println!("{k:<28} {v}");
+        match v {
+            // Curves and histories: in the summary file and the HDF5 results, not the console.
+            Json::Array(_) | Json::Object(_) if k != "monitor" && v.to_string().len() > 160 => {
+                println!("{k:<28} (a curve or table: see --summary or /summary in the results)")
+            }
+            _ if k == "monitor" => {}
+            v => println!("{k:<28} {v}"),
         }
     }
     if let Some(f) = &record.file {

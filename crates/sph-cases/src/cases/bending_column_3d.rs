@@ -67,7 +67,7 @@ pub fn column_params(resolution: i64, nu: f64, end_time: f64) -> Vec<Param> {
             "material",
             "neo-hookean",
             &["neo-hookean", "linear-elastic", "kirchhoff-vol-dev"],
-            "constitutive law (TL paper: neo-Hookean)",
+            "constitutive law (TL paper: neo-Hookean; tl-hf: the HF law of TL eq. 10–14)",
         ),
     ]
 }
@@ -93,6 +93,10 @@ impl Case for BendingColumn3d {
         let mut p = Params::new("bending-column-3d", specs);
         p.set_text("probe_interval", "1e-3").expect("valid default");
         p
+    }
+
+    fn params_for(&self, method: &str) -> Params {
+        crate::cases::tl_common::with_hf_paper_law(self.params(), method)
     }
 
     fn run(

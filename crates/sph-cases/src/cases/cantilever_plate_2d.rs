@@ -113,7 +113,16 @@ impl Case for CantileverPlate2d {
             p.f64("shear_modulus"),
             p.f64("density"),
         )?;
-        let mat = MaterialKind::SaintVenantKirchhoff.build(c)?;
+        // SVK (the MPS paper's law) for MPS and the plain TL methods; TL-HF runs the law its
+        // paper writes the HF split for (TL eq. 10–14).
+        let kind = if method == "tl-hf" {
+            MaterialKind::KirchhoffVolDev {
+                deviator: Default::default(),
+            }
+        } else {
+            MaterialKind::SaintVenantKirchhoff
+        };
+        let mat = kind.build(c)?;
         let c0 = c.sound_speed;
         let layers = p.int("base_layers");
         let (set, dp) = plate_particles(l, h, p.int("resolution"), p.f64("base_length"), layers)?;

@@ -109,9 +109,10 @@ pub fn body_velocities<D: Dim>(
         .collect()
 }
 
-/// Figures of the contact force on body `body` (the series `contact_force_<body>`) along the
-/// unit `axis` (the impact direction; the force on the body is against it): the largest
-/// magnitude `contact_force_max`, its time, and the first contact's start, end and duration.
+/// Figures of the contact force on body `body` (the series `contact_force_<body>`, columns
+/// `x`, `y` (, `z`)) along the unit `axis` (the impact direction; the force on the body is
+/// against it): the largest magnitude `contact_force_max`, its time, and the first contact's
+/// start, end and duration.
 pub fn contact_summary<D: Dim>(
     s: &dyn Solver<D>,
     body: usize,
@@ -119,10 +120,18 @@ pub fn contact_summary<D: Dim>(
 ) -> Map<String, Json> {
     let mut m = Map::new();
     let name = format!("contact_force_{body}");
-    let Some(series) = s.series().iter().find(|x| x.name == name) else {
+    let all = s.series();
+    let Some(series) = all.iter().find(|x| x.name == name) else {
         return m;
     };
-    let f: Vec<f64> = series.values.iter().map(|&v| -D::dot(v, axis)).collect();
+    let force = |k: usize| {
+        let mut v = D::zero();
+        for (c, col) in series.values.iter().enumerate().take(D::D) {
+            D::set_component(&mut v, c, col[k]);
+        }
+        v
+    };
+    let f: Vec<f64> = (0..series.len()).map(|k| -D::dot(force(k), axis)).collect();
     let (k, peak) =
         f.iter().copied().enumerate().fold(
             (0, 0.0),
@@ -130,10 +139,10 @@ pub fn contact_summary<D: Dim>(
         );
     m.insert("contact_force_max".into(), finite_or_null(peak));
     if peak > 0.0 {
-        m.insert("contact_force_max_time".into(), json!(series.times[k]));
+        m.insert("contact_force_max_time".into(), json!(series.time[k]));
     }
-    let magnitude: Vec<f64> = series.values.iter().map(|&v| D::norm(v)).collect();
-    if let Some((a, b)) = first_contact(&series.times, &magnitude) {
+    let magnitude: Vec<f64> = (0..series.len()).map(|k| D::norm(force(k))).collect();
+    if let Some((a, b)) = first_contact(&series.time, &magnitude) {
         m.insert("contact_start".into(), json!(a));
         m.insert("contact_end".into(), json!(b));
         m.insert("contact_duration".into(), json!(b - a));

@@ -11,8 +11,13 @@ pub mod mps_common;
 pub mod oscillating_plate_2d;
 pub mod oscillating_plate_3d;
 pub mod pressurised_ring_2d;
+pub mod pulling_cylinder_3d;
+pub mod pulling_strip_2d;
+pub mod punching_strip_2d;
+pub mod quasi_static;
 pub mod slab_tension_2d;
 pub mod static_cantilever_2d;
+pub mod stent_3d;
 pub mod tl_common;
 pub mod twisting_column_3d;
 pub mod ul_common;
@@ -25,6 +30,10 @@ pub static ALL: &[&dyn Case] = &[
     &oscillating_plate_3d::OscillatingPlate3d,
     &bending_column_3d::BendingColumn3d,
     &twisting_column_3d::TwistingColumn3d,
+    &punching_strip_2d::PunchingStrip2d,
+    &pulling_strip_2d::PullingStrip2d,
+    &pulling_cylinder_3d::PullingCylinder3d,
+    &stent_3d::Stent3d,
     &pressurised_ring_2d::PressurisedRing2d,
     &slab_tension_2d::SlabTension2d,
     &colliding_rings_2d::CollidingRings2d,

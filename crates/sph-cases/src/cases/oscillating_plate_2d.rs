@@ -111,7 +111,7 @@ impl Case for OscillatingPlate2d {
                 "material",
                 "linear-elastic",
                 &["linear-elastic", "neo-hookean", "kirchhoff-vol-dev"],
-                "constitutive law (TL paper: linear elastic)",
+                "constitutive law (TL paper: linear elastic; tl-hf: the HF law of TL eq. 10–14)",
             ),
         ];
         specs.extend(tl_params());
@@ -119,6 +119,10 @@ impl Case for OscillatingPlate2d {
         let mut p = Params::new("oscillating-plate-2d", specs);
         p.set_text("probe_interval", "5e-4").expect("valid default");
         p
+    }
+
+    fn params_for(&self, method: &str) -> Params {
+        crate::cases::tl_common::with_hf_paper_law(self.params(), method)
     }
 
     fn run(

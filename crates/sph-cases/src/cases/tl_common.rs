@@ -30,6 +30,11 @@ pub fn tl_params() -> Vec<Param> {
             "α of the Ganzenmüller penalty (tl-gm)",
         ),
         Param::bool("damping", true, "Kelvin–Voigt damping (TL eq 23–24)"),
+        Param::bool(
+            "dt_stretch",
+            false,
+            "scale eq 33's acoustic step by the smallest principal stretch (strong compression)",
+        ),
     ];
     v.extend(crate::runner::output_params());
     v
@@ -55,12 +60,27 @@ pub fn shear_of(method: &str, p: &Params) -> Result<Shear, CaseError> {
     })
 }
 
+/// `params` with the `material` default the TL paper's HF formulation is written for
+/// (`kirchhoff-vol-dev`, TL eq. 10–14) when `method` is `tl-hf`: a case whose paper runs TL-HF
+/// with its own law (the oscillation cases) lists this per-method default, and `tl-hf` with any
+/// other `material` represents that law through the generalised split
+/// (`sph_materials::Material::hf_split`).
+pub fn with_hf_paper_law(mut params: Params, method: &str) -> Params {
+    if method == "tl-hf" {
+        params
+            .set_text("material", "kirchhoff-vol-dev")
+            .expect("every TL case offers the paper's HF law");
+    }
+    params
+}
+
 /// The numerical parameters from the case keys.
 pub fn tl_numerics(p: &Params) -> TlParams {
     TlParams {
         h_over_dp: p.f64("h_over_dp"),
         cfl: p.f64("cfl"),
         damping: p.flag("damping"),
+        stretch_limited_dt: p.flag("dt_stretch"),
         ..TlParams::default()
     }
 }

@@ -42,6 +42,10 @@ impl Case for TwistingColumn3d {
         p
     }
 
+    fn params_for(&self, method: &str) -> Params {
+        crate::cases::tl_common::with_hf_paper_law(self.params(), method)
+    }
+
     fn run(
         &self,
         method: &str,

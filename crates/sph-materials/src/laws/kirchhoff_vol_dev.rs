@@ -1,6 +1,8 @@
 //! Volumetric–deviatoric Kirchhoff-stress law of the TL-HF paper (eq. 10–14).
 
-use crate::material::{cauchy_from_kirchhoff, inverse_or_nan, j_pow_minus_two_over};
+use crate::material::{
+    cauchy_from_kirchhoff, hf_split_generic, inverse_or_nan, j_pow_minus_two_over,
+};
 use crate::{ElasticConstants, Material};
 use glam::DMat3;
 use serde::{Deserialize, Serialize};
@@ -144,9 +146,19 @@ impl<D: Dim> Material<D> for KirchhoffVolDev {
         Some(w_v + w_s)
     }
 
-    /// `(K/2)(J² − 1)` (TL eq. 11, 13).
+    /// TL eq. 28 exactly: `τ_r = [(K/2)(J² − 1) − (ζ/d) G J^(−2/d) tr(b)] I`, `g = J^(−2/d)`,
+    /// with the law's `d` (the generic split of [`Material::hf_split`] for `d = 3` embedded).
     #[inline]
-    fn volumetric_kirchhoff(&self, j: f64) -> f64 {
-        self.volumetric(j)
+    fn hf_split(&self, f: D::Matrix, zeta: f64) -> (D::Matrix, f64) {
+        let (d, extra) = self.split_dim::<D>();
+        if extra > 0.0 {
+            // d = 3 on the embedding: not the in-plane deviator the Laplacian carries.
+            return hf_split_generic::<D, Self>(self, f, zeta);
+        }
+        let j = D::det(f);
+        let g = j_pow_minus_two_over(j, d);
+        let tr_b = D::ddot(f, f);
+        let iso = self.volumetric(j) - zeta / d as f64 * self.constants.shear_modulus * g * tr_b;
+        (D::identity() * iso, g)
     }
 }

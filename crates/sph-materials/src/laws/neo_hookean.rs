@@ -60,6 +60,18 @@ impl<D: Dim> Material<D> for NeoHookean {
         cauchy_from_kirchhoff(tau, f3.determinant())
     }
 
+    /// TL-HF split with `g = 1`: the law's deviatoric Kirchhoff stress is `μ dev(b)` exactly
+    /// (`τ = μ(b − I) + λ ln J I`), so the Laplacian carries `τ_s = μ b` and the remainder is
+    /// isotropic: `τ_r = [λ ln J − μ + (1 − ζ)(μ/d) tr b] I` (`= −ζ μ I` at rest, as eq. 28).
+    #[inline]
+    fn hf_split(&self, f: D::Matrix, zeta: f64) -> (D::Matrix, f64) {
+        let mu = self.constants.shear_modulus;
+        let tr_b = D::ddot(f, f);
+        let iso = self.constants.lame_lambda * D::det(f).ln() - mu
+            + (1.0 - zeta) * mu * tr_b / D::D as f64;
+        (D::identity() * iso, 1.0)
+    }
+
     /// `ψ = μ tr(E) − μ ln J + (λ/2)(ln J)²` (TL eq. 7).
     #[inline]
     fn strain_energy_density(&self, f: D::Matrix) -> Option<f64> {

@@ -101,9 +101,6 @@ pub fn probe(seed: usize, m: usize) -> (Vec<f64>, Vec<[f64; 3]>, Vec<[f64; 3]>) 
 
 pub const PROBES: [(&str, usize, usize); 2] = [("tip", 3, 11), ("mid point", 4, 5)];
 
-/// The one vector series of the standard content (values from `probe(7, 6)`'s positions).
-pub const SERIES: &str = "contact_force_0";
-
 /// Writes the standard content to `<base>.h5` and returns its path.
 pub fn write_all(base: &Path, backend: Backend) -> PathBuf {
     let mut w: Box<dyn ResultWriter> = create_writer(base, backend).expect("create writer");
@@ -116,10 +113,21 @@ pub fn write_all(base: &Path, backend: Backend) -> PathBuf {
         let (t, p, v) = probe(seed, m);
         w.write_probe(name, &t, &p, &v).unwrap();
     }
-    let (t, f, _) = probe(7, 6);
-    w.write_series(SERIES, &t, &f).unwrap();
+    let (t, force) = series();
+    w.write_series("punch", &t, &[("force_y", &force), ("displacement", &t)])
+        .unwrap();
     w.write_summary(&summary()).unwrap();
     w.finish().expect("finish")
+}
+
+/// The standard series: a reaction force over time.
+pub fn series() -> (Vec<f64>, Vec<f64>) {
+    let t: Vec<f64> = (0..7).map(|k| k as f64 * 0.125).collect();
+    let f = t
+        .iter()
+        .map(|t| (3.0 * t).sin() * 1e3 + 1.0 / 3.0)
+        .collect();
+    (t, f)
 }
 
 /// Asserts `contents` is exactly the standard content, bit for bit.
@@ -150,6 +158,12 @@ pub fn check_contents(c: &sph_output::FileContents) {
             }
         }
     }
+    let (t, force) = series();
+    let s = &c.series["punch"];
+    assert_eq!(s.times, t);
+    assert_eq!(s.columns["force_y"], force);
+    assert_eq!(s.columns["displacement"], t);
+    assert_eq!(s.columns.len(), 2);
     assert_eq!(c.probes.len(), 2);
     for (name, seed, m) in PROBES {
         let p = &c.probes[name];
@@ -159,12 +173,6 @@ pub fn check_contents(c: &sph_output::FileContents) {
         assert_eq!(bits(p.positions.as_flattened()), bits(pos.as_flattened()));
         assert_eq!(bits(p.velocities.as_flattened()), bits(vel.as_flattened()));
     }
-    assert_eq!(c.series.len(), 1);
-    let (t, f, _) = probe(7, 6);
-    let s = &c.series[SERIES];
-    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&s.times), bits(&t));
-    assert_eq!(bits(s.values.as_flattened()), bits(f.as_flattened()));
 }
 
 /// A fresh scratch directory under the target dir (no tempfile dependency).

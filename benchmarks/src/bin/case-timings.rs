@@ -1,0 +1,249 @@
+//! Whole-run timings of benchmark scenes through the `sph` command, as a user runs them: wall,
+//! user and system time (of the child process), steps, particles and particle-steps per second,
+//! each the median of `--repeats` runs (with the spread), at 1 and 2 threads. Writes
+//! `benchmarks/results/case-timings.json`, which `perf-report` turns into the tables of
+//! `docs/performance.md` (the anchor rows beside the recorded SPHinXsys reference).
+//!
+//! ```text
+//! cargo build --release -p sph-cases --bin sph
+//! cargo run --release -p sph-benchmarks --bin case-timings [-- --repeats 3] [--only anchors|extreme]
+//! ```
+//! Time only on a quiet machine (no build, test or other run): the numbers are wall-clock.
+
+use serde_json::{json, Value};
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::Instant;
+
+/// One scene: a label, the `sph run` arguments, the thread counts, and its group.
+struct Scene {
+    group: &'static str,
+    label: &'static str,
+    args: Vec<&'static str>,
+    threads: &'static [usize],
+}
+
+/// The scenes: the anchor cases of the performance target (the SPHinXsys comparison) and one
+/// row per extreme TL scene (a short, representative slice of each run).
+fn scenes() -> Vec<Scene> {
+    let both: &'static [usize] = &[1, 2];
+    vec![
+        Scene {
+            group: "anchors",
+            label: "2D oscillating plate, TL, H/dp 10, t = 1 s",
+            args: vec![
+                "oscillating-plate-2d",
+                "--method",
+                "tl",
+                "--set",
+                "h_over_dp=1.3",
+            ],
+            threads: both,
+        },
+        Scene {
+            group: "anchors",
+            label: "2D oscillating plate, UL-ENOG dual stepping, H/dp 10, t = 1 s",
+            args: vec![
+                "oscillating-plate-2d",
+                "--method",
+                "ul-enog",
+                "--set",
+                "h_over_dp=1.3",
+            ],
+            threads: both,
+        },
+        Scene {
+            group: "anchors",
+            label: "3D twisting column, TL-HF, 10×10×61, Ω0 400, t = 0.5 s",
+            args: vec![
+                "twisting-column-3d",
+                "--method",
+                "tl-hf",
+                "--set",
+                "h_over_dp=1.3",
+                "--set",
+                "resolution=10",
+                "--set",
+                "end_time=0.5",
+                "--set",
+                "nu=0.45",
+                "--set",
+                "omega0=400",
+                "--set",
+                "clamp_layers=1",
+                "--set",
+                "cfl=0.5",
+            ],
+            threads: both,
+        },
+        Scene {
+            group: "extreme",
+            label: "punching strip, TL-HF, H/dp 30, to 50 %",
+            args: vec!["punching-strip-2d", "--method", "tl-hf"],
+            threads: &[2],
+        },
+        Scene {
+            group: "extreme",
+            label: "pulling strip, TL-HF, L/dp 30, to stretch 2",
+            args: vec![
+                "pulling-strip-2d",
+                "--method",
+                "tl-hf",
+                "--set",
+                "stretch=2",
+            ],
+            threads: &[2],
+        },
+        Scene {
+            group: "extreme",
+            label: "pulling cylinder, TL-HF, dp 0.1 mm, to stretch 1.5",
+            args: vec![
+                "pulling-cylinder-3d",
+                "--method",
+                "tl-hf",
+                "--set",
+                "stretch=1.5",
+            ],
+            threads: &[2],
+        },
+        Scene {
+            group: "extreme",
+            label: "stent, point forces, TL-HF, dp = wall/3, to 0.02 ms",
+            args: vec!["stent-3d", "--method", "tl-hf", "--set", "end_time=2e-5"],
+            threads: &[2],
+        },
+    ]
+}
+
+/// User and system CPU seconds of all waited-for children so far.
+fn children_cpu() -> (f64, f64) {
+    // SAFETY: getrusage writes into the zeroed struct we own; RUSAGE_CHILDREN is valid.
+    let mut u: libc::rusage = unsafe { std::mem::zeroed() };
+    unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut u) };
+    let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    (secs(u.ru_utime), secs(u.ru_stime))
+}
+
+fn median_and_spread(mut v: Vec<f64>) -> Value {
+    v.sort_by(f64::total_cmp);
+    let median = v[v.len() / 2];
+    json!({ "median": median, "min": v[0], "max": v[v.len() - 1], "all": v })
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let repeats: usize = args
+        .iter()
+        .position(|a| a == "--repeats")
+        .and_then(|k| args.get(k + 1))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(3);
+    let only = args
+        .iter()
+        .position(|a| a == "--only")
+        .and_then(|k| args.get(k + 1))
+        .cloned();
+    let exe = std::env::current_exe().expect("own path");
+    let sph = exe.with_file_name("sph");
+    if !sph.exists() {
+        eprintln!(
+            "error: {} not found: build it first (cargo build --release -p sph-cases --bin sph)",
+            sph.display()
+        );
+        std::process::exit(2);
+    }
+    let scratch = std::env::temp_dir().join(format!("sph-case-timings-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch).expect("scratch directory");
+    let mut rows = Vec::new();
+    for scene in scenes() {
+        if only.as_deref().is_some_and(|o| o != scene.group) {
+            continue;
+        }
+        for &threads in scene.threads {
+            let (mut wall, mut user, mut sys) = (Vec::new(), Vec::new(), Vec::new());
+            let mut summary = Value::Null;
+            for k in 0..repeats {
+                let path: PathBuf = scratch.join(format!("s{k}.json"));
+                let (u0, s0) = children_cpu();
+                let t0 = Instant::now();
+                let status = Command::new(&sph)
+                    .arg("run")
+                    .args(&scene.args)
+                    .args(["--no-output", "--threads", &threads.to_string()])
+                    .arg("--summary")
+                    .arg(&path)
+                    .stdout(std::process::Stdio::null())
+                    .status()
+                    .expect("run sph");
+                let elapsed = t0.elapsed().as_secs_f64();
+                let (u1, s1) = children_cpu();
+                if !status.success() {
+                    eprintln!("error: {} failed ({status})", scene.label);
+                    std::process::exit(1);
+                }
+                wall.push(elapsed);
+                user.push(u1 - u0);
+                sys.push(s1 - s0);
+                summary = serde_json::from_str(&std::fs::read_to_string(&path).unwrap())
+                    .expect("summary JSON");
+                eprintln!(
+                    "{} ({threads} thread{}): run {}: {elapsed:.2} s wall, {:.2} s user, {:.2} s sys",
+                    scene.label,
+                    if threads == 1 { "" } else { "s" },
+                    k + 1,
+                    u1 - u0,
+                    s1 - s0
+                );
+            }
+            let pick = |k: &str| summary.get(k).cloned().unwrap_or(Value::Null);
+            let command = format!(
+                "sph run {} --threads {threads} --no-output",
+                scene.args.join(" ")
+            );
+            rows.push(json!({
+                "group": scene.group,
+                "label": scene.label,
+                "command": command,
+                "threads": threads,
+                "repeats": repeats,
+                "wall_seconds": median_and_spread(wall),
+                "user_seconds": median_and_spread(user),
+                "system_seconds": median_and_spread(sys),
+                "particles": pick("particles"),
+                "steps": pick("steps"),
+                "acoustic_steps": pick("acoustic_steps"),
+                "solver_seconds": pick("solver_seconds"),
+                "particle_steps_per_second": pick("particle_steps_per_second"),
+            }));
+        }
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    let root = exe
+        .ancestors()
+        .find(|p| p.join("Cargo.lock").exists())
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("."));
+    let out = root
+        .join("benchmarks")
+        .join("results")
+        .join("case-timings.json");
+    std::fs::create_dir_all(out.parent().unwrap()).expect("results directory");
+    // Keep the rows of groups not run this time.
+    let mut all: Vec<Value> = std::fs::read_to_string(&out)
+        .ok()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+        .and_then(|v| v.get("rows").and_then(Value::as_array).cloned())
+        .unwrap_or_default();
+    let fresh: Vec<String> = rows
+        .iter()
+        .map(|r| format!("{}|{}", r["label"], r["threads"]))
+        .collect();
+    all.retain(|r| !fresh.contains(&format!("{}|{}", r["label"], r["threads"])));
+    all.extend(rows);
+    let doc = json!({
+        "generated_by": "cargo run --release -p sph-benchmarks --bin case-timings",
+        "rows": all,
+    });
+    std::fs::write(&out, serde_json::to_string_pretty(&doc).unwrap()).expect("write results");
+    println!("wrote {}", out.display());
+}
