@@ -70,7 +70,7 @@ enum Command {
         /// Add the Hertz runs at R/dp = 30 (ENOG; ≈ 230,000 particles each).
         #[arg(long)]
         fine: bool,
-        /// Add the paper-resolution 3D runs (ENOG; 310,000 and 354,000 particles).
+        /// Add the colliding balls at the paper's resolution (ENOG; 310,000 particles).
         #[arg(long)]
         paper: bool,
         /// Re-run stored runs.
