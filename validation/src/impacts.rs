@@ -464,11 +464,11 @@ fn report_hertz(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), St
         "`hertz-impact-3d`: two solid spheres R = 0.05 m, each at 1 m/s toward the other \
          (v/c0 = 0.0085, so the contact is quasi-static), E = 10 MPa, ν = 0.4, ρ = 1200; \
          theory (`hertz_impact`, Johnson §11.4): t_c = 6.41 ms, F_max = 360.7 N, δ_max = 4.36 mm \
-         (a/R ≈ 0.2). Initial surface gap dp/2. The contact model is METHODS.md's contact \
+         (a/R ≈ 0.2). Initial surface gap dp/2. The contact model is docs/methods.md's contact \
          pressure (`sph_ul::contact`): contact density ρ_c,i = Σ_other max(W_ij − W(dp), 0) m_j \
          (only pairs closer than dp count, so the surfaces interact when they touch), \
          p_c = κ c0² ρ_c, pair force −2 ½(p_c,i + p_c,j) V_i V_j W′ e_ij; its one constant is \
-         the scale κ (1 = METHODS.md), run at 1 and 2. Contact time: the first run of \
+         the scale κ (1 = docs/methods.md), run at 1 and 2. Contact time: the first run of \
          non-zero contact force (sampled every t_c/400; the force is exactly zero without an \
          interacting pair); F_max: its largest x component; e: rebound/impact speed of the \
          left sphere's centre of mass at the end (flight + 2 t_c); energy change: kinetic + \

@@ -277,7 +277,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel: &str) -> Result<(), String> 
     writeln!(
         md,
         "ν = 0.3975, H/dp = 10, t ≤ 1 s, linear elastic (SVK) unless marked neo-Hookean. \
-         Disorder indicator of METHODS.md (Ganzenmüller's error \
+         Disorder indicator of docs/methods.md (Ganzenmüller's error \
          e_i = Σ W |F_i X_ij − x_ij| / Σ W |X_ij|), maximum and 99th percentile over particles, \
          largest over time. A run that stops reports why (a time step collapsing below 10⁻³ of \
          the acoustic step means particles collapsed onto each other).\n"

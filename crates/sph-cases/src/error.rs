@@ -52,6 +52,9 @@ pub enum CaseError {
     /// Writing results failed.
     #[error(transparent)]
     Output(#[from] sph_output::OutputError),
+    /// The run driver refused or failed the run.
+    #[error(transparent)]
+    Driver(#[from] sph_driver::DriverError),
     /// File-system error.
     #[error("{path}: {source}")]
     Io {

@@ -1,16 +1,20 @@
 //! # sph-cases: the benchmark scenes and the `sph` command
 //!
-//! Every case of `CASES.md` is a scene builder ([`Case`]) with defaults from its paper and every
-//! value overridable ([`params::Params`]: `--set key=value` or a TOML file). [`runner::drive`]
-//! runs any solver to its end time, writes HDF5 results through `sph-output`, and returns the
-//! summary figures.
+//! Every benchmark case of the three papers is a scene builder ([`Case`]) with defaults from its
+//! paper and every value overridable ([`params::Params`]: `--set key=value` or a TOML file).
+//! The run loop is `sph-driver`'s ([`runner::drive`], re-exported here): it runs any solver to
+//! its end time, writes HDF5 results through `sph-output`, and returns the summary figures.
 #![deny(missing_docs)]
 
 pub mod analysis;
 pub mod cases;
 pub mod error;
 pub mod params;
+pub mod preflight;
 pub mod runner;
+
+/// The checks and estimates made before a run (`sph-driver`'s).
+pub use sph_driver::guard;
 
 pub use error::CaseError;
 pub use params::{Param, Params, Range, Value};

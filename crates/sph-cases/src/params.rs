@@ -47,7 +47,8 @@ pub enum Range {
 }
 
 impl Range {
-    fn describe(&self, key: &str) -> String {
+    /// The allowed values in words (`allowed range is 0 < nu < 0.5`).
+    pub fn describe(&self, key: &str) -> String {
         match self {
             Range::Positive => format!("allowed range is {key} > 0"),
             Range::NonNegative => format!("allowed range is {key} >= 0"),
@@ -146,9 +147,38 @@ pub struct Params {
     values: BTreeMap<&'static str, Value>,
 }
 
+/// Densities every case accepts, kg/m³: from a thousandth of air to fifty times osmium, so SI
+/// solids, foams and gels, and non-dimensional runs (ρ = 1) pass, and `1e300` does not.
+pub const DENSITY_RANGE: (f64, f64) = (1e-3, 1e6);
+
+/// Elastic moduli every case accepts, Pa: from soft gels (and non-dimensional runs, E = 1) to
+/// ten times diamond.
+pub const MODULUS_RANGE: (f64, f64) = (1e-3, 1e13);
+
+/// The physical bounds of a key, by name: `density`, and the elastic moduli (`*_modulus`,
+/// `lambda`, `c1`, `c2`). [`Params::new`] narrows a case's `Positive`/`NonNegative` range of
+/// such a key to these bounds, so every case, also one added later, rejects a physically
+/// absurd value naming the key and the range.
+pub fn physical_range(key: &str, declared: Range) -> Range {
+    let bounds = match key {
+        "density" => DENSITY_RANGE,
+        k if k.ends_with("_modulus") || matches!(k, "lambda" | "c1" | "c2") => MODULUS_RANGE,
+        _ => return declared,
+    };
+    match declared {
+        Range::Positive => Range::Closed(bounds.0, bounds.1),
+        Range::NonNegative => Range::Closed(0.0, bounds.1),
+        other => other,
+    }
+}
+
 impl Params {
-    /// Defaults of a case's parameters.
-    pub fn new(case: &str, specs: Vec<Param>) -> Self {
+    /// Defaults of a case's parameters. Densities and moduli get their physical bounds
+    /// ([`physical_range`]).
+    pub fn new(case: &str, mut specs: Vec<Param>) -> Self {
+        for p in &mut specs {
+            p.range = physical_range(p.key, p.range);
+        }
         let values = specs.iter().map(|p| (p.key, p.default.clone())).collect();
         Self {
             case: case.into(),
@@ -233,7 +263,19 @@ impl Params {
     /// also accepted; `case` and `method` keys are returned for the caller to check).
     pub fn apply_toml(&mut self, text: &str, origin: &str) -> Result<TomlExtras, CaseError> {
         let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-            CaseError::Config(format!("{origin}: malformed TOML: {}", e.message()))
+            let line = e
+                .span()
+                .map(|s| {
+                    format!(
+                        ":{}",
+                        text[..s.start.min(text.len())].matches('\n').count() + 1
+                    )
+                })
+                .unwrap_or_default();
+            CaseError::Config(format!(
+                "{origin}{line}: malformed TOML: {}",
+                e.message().trim()
+            ))
         })?;
         let mut extras = TomlExtras::default();
         let mut entries: Vec<(String, toml::Value)> = Vec::new();
@@ -245,8 +287,22 @@ impl Params {
                 (_, v) => entries.push((k, v)),
             }
         }
+        // A key's line in the file, for the error message.
+        let at = |key: &str| -> String {
+            text.lines()
+                .position(|l| {
+                    l.trim_start()
+                        .strip_prefix(key)
+                        .is_some_and(|r| r.trim_start().starts_with('='))
+                })
+                .map(|k| format!("{origin}:{}: ", k + 1))
+                .unwrap_or_else(|| format!("{origin}: "))
+        };
         for (k, v) in entries {
-            let spec = self.spec(&k)?.clone();
+            let spec = match self.spec(&k) {
+                Ok(s) => s.clone(),
+                Err(e) => return Err(CaseError::Config(format!("{}{e}", at(&k)))),
+            };
             let shown = v.to_string();
             let value = match (&spec.default, v) {
                 (Value::Float(_), toml::Value::Float(x)) => Value::Float(x),
@@ -256,13 +312,15 @@ impl Params {
                 (Value::Text(_), toml::Value::String(s)) => Value::Text(s),
                 (d, _) => {
                     return Err(CaseError::InvalidValue {
-                        key: k.clone(),
+                        key: format!("{}{k}", at(&k)),
                         value: shown,
                         allowed: format!("a value of the same type as the default {d}"),
                     })
                 }
             };
-            self.set(&k, value, &shown)?;
+            if let Err(e) = self.set(&k, value, &shown) {
+                return Err(CaseError::Config(format!("{}{e}", at(&k))));
+            }
         }
         Ok(extras)
     }
@@ -375,6 +433,41 @@ mod tests {
             "{e}"
         );
         assert!(p.apply_assignment("nu").is_err());
+    }
+
+    /// Issue 14, item 7: `density = 1e300` and `youngs_modulus = 1e-300` were accepted. Every
+    /// case's density and moduli are bounded (also cases added later: the bound is by name),
+    /// and every default lies inside.
+    #[test]
+    fn densities_and_moduli_of_every_case_have_physical_bounds() {
+        let mut seen = 0;
+        for case in crate::all_cases() {
+            for m in case.info().methods {
+                let p = case.params_for(m);
+                for spec in p.specs() {
+                    let physical = spec.key == "density"
+                        || spec.key.ends_with("_modulus")
+                        || matches!(spec.key, "lambda" | "c1" | "c2");
+                    if !physical {
+                        continue;
+                    }
+                    seen += 1;
+                    let Range::Closed(lo, hi) = spec.range else {
+                        panic!("{} {}: {:?}", case.info().name, spec.key, spec.range);
+                    };
+                    assert!(hi <= MODULUS_RANGE.1 && lo >= 0.0);
+                    assert!(spec.range.admits(p.value(spec.key).unwrap()));
+                    let mut q = p.clone();
+                    // c2 may be 0 (Mooney–Rivlin without its second term); the rest may not.
+                    let tiny = (lo > 0.0).then_some("1e-300");
+                    for bad in ["1e300", "-1"].into_iter().chain(tiny) {
+                        let e = q.set_text(spec.key, bad).unwrap_err().to_string();
+                        assert!(e.contains(spec.key) && e.contains("<="), "{e}");
+                    }
+                }
+            }
+        }
+        assert!(seen >= 20, "{seen} density/modulus keys");
     }
 
     #[test]

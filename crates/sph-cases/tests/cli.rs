@@ -159,7 +159,13 @@ fn a_short_run_writes_results_and_summary() {
     assert_eq!(file.summary["case"], "oscillating-plate-2d");
     assert_eq!(file.meta["params"]["resolution"], 4);
     assert!(dir.join("oscillating-plate-2d-tl.xmf").exists());
-    assert!(!dir.join("oscillating-plate-2d-tl.h5.tmp").exists());
+    // No temporary or lock file is left behind.
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp") || n.ends_with(".lock"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -252,4 +258,83 @@ fn a_coarse_hertz_impact_rebounds_and_records_the_contact_force() {
         "the left sphere is pushed back"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_run_without_a_terminal_logs_its_progress_to_stderr() {
+    // stderr is a pipe here; a tiny interval makes every report a line.
+    let (code, _, err) = sph(&[
+        "run",
+        "oscillating-plate-2d",
+        "--set",
+        "end_time=0.005",
+        "--no-output",
+        "--log-every",
+        "1e-9",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("t = ")).collect();
+    assert!(lines.len() >= 2, "{err}");
+    assert!(lines.last().unwrap().contains("(100.0 %)"), "{err}");
+    assert!(lines[0].contains("particle-steps/s"), "{err}");
+    // And none by default for a run this short.
+    let (code, _, err) = sph(&[
+        "run",
+        "oscillating-plate-2d",
+        "--set",
+        "end_time=0.005",
+        "--no-output",
+    ]);
+    assert_eq!(code, 0);
+    assert!(!err.contains("t = "), "{err}");
+}
+
+#[test]
+fn every_case_template_reads_back_as_its_config() {
+    let dir = scratch("templates");
+    let (_, list, _) = sph(&["list"]);
+    let mut n = 0;
+    for case in list.lines().filter_map(|l| l.split_whitespace().next()) {
+        let (code, text, err) = sph(&["list", "--toml", case]);
+        assert_eq!(code, 0, "{case}: {err}");
+        assert!(text.contains(&format!("case = \"{case}\"")), "{text}");
+        let file = dir.join(format!("{case}.toml"));
+        std::fs::write(&file, &text).unwrap();
+        // The template is the defaults: a dry run with it checks and estimates the case.
+        let (code, _, err) = sph(&["run", case, "--config", file.to_str().unwrap(), "--dry-run"]);
+        assert_eq!(code, 0, "{case}: {err}");
+        n += 1;
+    }
+    assert!(n >= 13, "{n} cases");
+    // A bad value in a parameter file names the file, the line and the key.
+    std::fs::write(dir.join("bad.toml"), "\n\nnu = 0.7\n").unwrap();
+    let (code, _, err) = sph(&[
+        "run",
+        "punching-strip-2d",
+        "--config",
+        dir.join("bad.toml").to_str().unwrap(),
+        "--dry-run",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.toml:3:") && err.contains("nu"), "{err}");
+}
+
+#[test]
+fn a_scene_file_runs_and_refuses_case_options() {
+    let dir = scratch("scene");
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/scenes/discs.toml"
+    );
+    let out = dir.join("o");
+    let (code, text, err) = sph(&["run", scene, "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(text.contains("discs-ul-enog.h5"), "{text}");
+    assert!(out.join("discs-ul-enog.h5").exists());
+    let (code, _, err) = sph(&["run", scene, "--set", "dp=1"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--set does not apply to a scene file"),
+        "{err}"
+    );
 }

@@ -48,6 +48,60 @@ pub fn max_norm_where<D: Dim>(v: &[D::Vector], mask: &[bool]) -> f64 {
         .sqrt()
 }
 
+/// The collapse threshold every method states (and TL's default `min_dt_ratio`): a run stops
+/// with [`Error::TimeStepCollapsed`] when its stable time step falls below this fraction of its
+/// acoustic step at rest (`CFL h/c0`). The step criteria then signal `|v| > 999 c0` or
+/// `|a| > 10⁶ c0²/h`: a collapsed pair of particles or an inverted element, and going on would
+/// take a thousand steps to get as far as one normal step.
+pub const MIN_DT_RATIO: f64 = 1e-3;
+
+/// `Ok` if the stable step `stable` is finite and above `floor`; otherwise
+/// [`Error::TimeStepCollapsed`] (a NaN step, from a NaN speed, is a collapse too).
+pub fn check_time_step(stable: f64, floor: f64, step: u64, time: f64) -> Result<(), Error> {
+    if stable.is_finite() && stable > floor {
+        Ok(())
+    } else {
+        Err(Error::TimeStepCollapsed {
+            dt: stable,
+            min: floor,
+            step,
+            time,
+        })
+    }
+}
+
+/// The larger of `a` and `b`, NaN if either is (unlike `f64::max`, which drops a NaN): for
+/// maxima that feed time-step criteria, so a NaN speed stops the run instead of being ignored.
+pub fn max_or_nan(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
+}
+
+/// [`Error::Inverted`] naming the first particle whose deformation gradient has `det F ≤ 0`
+/// (or a non-finite determinant): an inverted particle, which laws such as Saint
+/// Venant–Kirchhoff or the Mooney–Rivlin-like law of the MPS paper would go on integrating.
+pub fn check_jacobians<D: Dim>(
+    deformation: &[D::Matrix],
+    step: u64,
+    time: f64,
+) -> Result<(), Error> {
+    match deformation
+        .par_iter()
+        .position_first(|&f| D::det(f).is_nan() || D::det(f) <= 0.0)
+    {
+        Some(i) => Err(Error::Inverted {
+            particle: i,
+            jacobian: D::det(deformation[i]),
+            step,
+            time,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// [`Error::NonFinite`] naming the first non-finite position, velocity or matrix (e.g. the
 /// deformation gradient), with the step and time at which it was found.
 pub fn check_finite_state<D: Dim>(
@@ -94,6 +148,37 @@ mod tests {
         assert_eq!(kinetic_energy::<D2>(&v, &m), 2.0);
         assert_eq!(max_norm_where::<D2>(&v, &[false, true]), 1.0);
         assert_eq!(max_norm_where::<D3>(&[], &[]), 0.0);
+    }
+
+    #[test]
+    fn inverted_particles_and_collapsed_steps_are_named() {
+        let f = [
+            DMat2::IDENTITY,
+            DMat2::from_cols(DVec2::new(-1.0, 0.0), DVec2::new(0.0, 1.0)),
+            DMat2::ZERO,
+        ];
+        let e = check_jacobians::<D2>(&f, 3, 0.25).unwrap_err();
+        assert_eq!(
+            e,
+            Error::Inverted {
+                particle: 1,
+                jacobian: -1.0,
+                step: 3,
+                time: 0.25
+            }
+        );
+        assert!(check_jacobians::<D2>(&f[..1], 0, 0.0).is_ok());
+        // det = 0 (a flattened particle) counts as inverted too.
+        assert!(check_jacobians::<D2>(&f[2..], 0, 0.0).is_err());
+        assert!(check_time_step(1e-3, 1e-6, 0, 0.0).is_ok());
+        for bad in [1e-7, 0.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                check_time_step(bad, 1e-6, 0, 0.0),
+                Err(Error::TimeStepCollapsed { .. })
+            ));
+        }
+        assert!(max_or_nan(1.0, f64::NAN).is_nan() && max_or_nan(f64::NAN, 1.0).is_nan());
+        assert_eq!(max_or_nan(1.0, 2.0), 2.0);
     }
 
     #[test]

@@ -56,6 +56,31 @@ pub enum Error {
         /// Simulated time.
         time: f64,
     },
+    /// A generator would make more particles than the memory budget allows (see
+    /// [`crate::budget`]); nothing was allocated.
+    #[error("{what} would generate ≈ {particles} particles needing ≈ {memory} of memory, more than the limit of {limit}")]
+    TooManyParticles {
+        /// The generator call (e.g. `annulus_polar at dp = 1e-6`).
+        what: String,
+        /// The estimated particle count, formatted.
+        particles: String,
+        /// The estimated peak memory of the run, formatted.
+        memory: String,
+        /// The limit and where it comes from.
+        limit: String,
+    },
+    /// A particle became inverted: its volume ratio `J = det F` (or `ρ0/ρ`) is not positive.
+    #[error("particle {particle} inverted (J = {jacobian:e} <= 0) at step {step}, time {time:e}")]
+    Inverted {
+        /// The particle.
+        particle: usize,
+        /// Its `J`.
+        jacobian: f64,
+        /// Step number.
+        step: u64,
+        /// Simulated time.
+        time: f64,
+    },
     /// A particle lost all its neighbours (fracture or blow-up in an updated-Lagrangian run).
     #[error("particle {particle} lost all its neighbours at step {step}, time {time:e}")]
     LostNeighbours {

@@ -12,7 +12,7 @@
 //! # Cell-centred lattice
 //! [`Lattice`] with spacing `dp` and origin `o` places particle candidates at cell centres
 //! `o + (n + ½) dp` per axis (`n` any integer) and [`ParticleSet::fill`] keeps the candidates the
-//! shape contains, each with volume `V = dp^d` (METHODS.md: `V⁰ = dp^d`).
+//! shape contains, each with volume `V = dp^d` (docs/methods.md: `V⁰ = dp^d`).
 //!
 //! Membership is decided at cell centres, which lie half a spacing away from every lattice-cell
 //! face. When a body's boundaries lie on cell faces (choose `o` on a corner of the body and
@@ -31,7 +31,15 @@
 //! [`ParticleSet::untagged`]). A particle may be in several regions; at most 32 regions per set.
 //! Tags follow their particles through [`ParticleSet::permute`], [`ParticleSet::retain`] and
 //! [`ParticleSet::extend`] (which merges regions by name).
+//!
+//! # Particle budget
+//! Every generator checks the particle budget of [`crate::budget`] before it allocates: the
+//! polar generators compute their count in closed form first, the lattice fill stops as soon as
+//! it would keep one particle too many. Parameters that would need more memory than the budget
+//! (or more than 2³² − 1 particles, or a count that overflows every integer) give
+//! [`Error::TooManyParticles`] with the estimate and the limit, never a panic or an abort.
 
+use crate::budget;
 use crate::dim::{Dim, D2, D3};
 use crate::error::{check_non_negative, check_positive, Error};
 use glam::{DVec2, DVec3};
@@ -533,6 +541,11 @@ impl<D: Dim> Lattice<D> {
             return Err(too_fine(self.dp));
         }
         let centre = |k: usize, n: i64| D::component(self.origin, k) + (n as f64 + 0.5) * self.dp;
+        // The particle budget (crate::budget) is checked as the points are kept, so memory
+        // never grows past it; when it runs out, the count is estimated from the share of
+        // the candidates kept so far.
+        let allowance = budget::remaining::<D>();
+        let mut visited: u64 = 0;
         let mut out = Vec::new();
         for n2 in first[2]..=last[2] {
             for n1 in first[1]..=last[1] {
@@ -542,12 +555,22 @@ impl<D: Dim> Lattice<D> {
                         c[k] = centre(k, n);
                     }
                     let x = D::vector(c);
+                    visited += 1;
                     if shape.contains(x) {
+                        if out.len() as u64 >= allowance {
+                            let estimate =
+                                (out.len() + 1) as f64 * candidates as f64 / visited as f64;
+                            return Err(budget::exceeded::<D>(
+                                estimate,
+                                &format!("the lattice fill at dp = {:?}", self.dp),
+                            ));
+                        }
                         out.push(x);
                     }
                 }
             }
         }
+        budget::book::<D>(out.len() as u64);
         Ok(out)
     }
 }
@@ -572,6 +595,9 @@ pub struct ParticleSet<D: Dim> {
     volumes: Vec<f64>,
     tags: Vec<u32>,
     regions: Vec<String>,
+    /// The spacing the generator used (`None` for sets assembled from parts or from sets of
+    /// different spacings).
+    spacing: Option<f64>,
 }
 
 impl<D: Dim> Default for ParticleSet<D> {
@@ -588,6 +614,7 @@ impl<D: Dim> ParticleSet<D> {
             volumes: Vec::new(),
             tags: Vec::new(),
             regions: Vec::new(),
+            spacing: None,
         }
     }
 
@@ -617,6 +644,7 @@ impl<D: Dim> ParticleSet<D> {
             volumes,
             tags: vec![0; n],
             regions: Vec::new(),
+            spacing: None,
         })
     }
 
@@ -636,7 +664,21 @@ impl<D: Dim> ParticleSet<D> {
             volumes: vec![lattice.cell_volume(); n],
             tags: vec![0; n],
             regions: Vec::new(),
+            spacing: Some(lattice.dp()),
         })
+    }
+
+    /// The particle spacing the generator used: the lattice spacing of a fill, the `dp` of a
+    /// polar generator; kept by [`extend`](Self::extend) only when both sets agree; `None` for
+    /// sets made [`from_parts`](Self::from_parts).
+    pub fn spacing(&self) -> Option<f64> {
+        self.spacing
+    }
+
+    /// Records the spacing a set was generated with (for generators outside this module).
+    pub fn with_spacing(mut self, dp: f64) -> Self {
+        self.spacing = Some(dp);
+        self
     }
 
     /// Number of particles.
@@ -784,6 +826,19 @@ impl<D: Dim> ParticleSet<D> {
             .is_some_and(|bit| self.tags.get(i).is_some_and(|t| t & bit != 0))
     }
 
+    /// Indices (ascending) of the particles whose position satisfies `pred` (a region chosen
+    /// by a condition rather than a [`Shape`]).
+    pub fn select(&self, pred: impl Fn(D::Vector) -> bool) -> Vec<u32> {
+        (0..self.len() as u32)
+            .filter(|&i| pred(self.positions[i as usize]))
+            .collect()
+    }
+
+    /// Indices (ascending) of the particles inside `shape`.
+    pub fn inside(&self, shape: &dyn Shape<D>) -> Vec<u32> {
+        self.select(|x| shape.contains(x))
+    }
+
     fn indices_where(&self, f: impl Fn(u32) -> bool) -> Vec<u32> {
         self.tags
             .iter()
@@ -883,6 +938,11 @@ impl<D: Dim> ParticleSet<D> {
             .map(|r| self.bit_or_create(r))
             .collect::<Result<_, _>>()?;
         let start = self.len();
+        self.spacing = match (self.is_empty(), self.spacing, other.spacing) {
+            (true, _, b) => b,
+            (false, Some(a), Some(b)) if a == b => Some(a),
+            _ => None,
+        };
         self.positions.extend_from_slice(&other.positions);
         self.volumes.extend_from_slice(&other.volumes);
         self.tags.extend(other.tags.iter().map(|&t| {
@@ -907,6 +967,27 @@ fn ring_layers(r_in: f64, r_out: f64, dp: f64) -> (f64, Vec<f64>) {
     (dr, (0..n).map(|k| r_in + (k as f64 + 0.5) * dr).collect())
 }
 
+/// The particle count of [`annulus_polar`] without generating it: `n_r` layers of
+/// `max(1, 2π r_k/dp)` particles, summed in closed form (within `n_r/2` of the exact count of
+/// the rounded layers; any input, also one whose count overflows every integer, is safe).
+fn ring_particle_estimate(r_in: f64, r_out: f64, dp: f64) -> f64 {
+    let layers = ((r_out - r_in) / dp).round().max(1.0);
+    let mid = 0.5 * (r_in + r_out);
+    layers * (2.0 * PI * mid / dp).max(1.0) + 0.5 * layers
+}
+
+/// The particle count of [`hollow_sphere_polar`] without generating it: `n_r` layers of
+/// `max(1, 4π r_k²/dp²)` particles, `Σ r_k² = n_r r_mid² + dr² n_r (n_r² − 1)/12` in closed
+/// form, plus the central tetrahedron (within `n_r/2 + 4` of the exact count of the rounded
+/// layers; any input, also one whose count overflows every integer, is safe).
+fn sphere_particle_estimate(r_in: f64, r_out: f64, dp: f64) -> f64 {
+    let layers = ((r_out - r_in) / dp).round().max(1.0);
+    let dr = (r_out - r_in) / layers;
+    let mid = 0.5 * (r_in + r_out);
+    let sum_r2 = layers * mid * mid + dr * dr * layers * (layers * layers - 1.0) / 12.0;
+    (4.0 * PI * sum_r2 / (dp * dp)).max(layers) + 0.5 * layers + 4.0
+}
+
 /// A 2D ring `r_in ≤ r ≤ r_out` in concentric layers, for bodies whose curved surfaces should be
 /// smooth (rings, pressurised ring).
 ///
@@ -928,6 +1009,10 @@ pub fn annulus_polar(
     if !centre.is_finite() {
         return Err(Error::invalid("centre", centre, "finite"));
     }
+    budget::reserve::<D2>(
+        ring_particle_estimate(r_in, r_out, dp),
+        &format!("annulus_polar at dp = {dp:?}"),
+    )?;
     let (dr, radii) = ring_layers(r_in, r_out, dp);
     let mut positions = Vec::new();
     let mut volumes = Vec::new();
@@ -944,7 +1029,7 @@ pub fn annulus_polar(
             layer.push(k);
         }
     }
-    let mut set = ParticleSet::from_parts(positions, volumes)?;
+    let mut set = ParticleSet::from_parts(positions, volumes)?.with_spacing(dp);
     let last = radii.len() - 1;
     if r_in > 0.0 {
         set.tag_where("inner", |i, _| layer[i] == 0)?;
@@ -972,18 +1057,29 @@ pub fn tube_polar(
     let axis = axis
         .try_normalize()
         .ok_or_else(|| Error::invalid("axis", axis, "finite and non-zero"))?;
-    let ring = annulus_polar(DVec2::ZERO, r_in, r_out, dp)?;
+    check_positive("dp", dp)?;
+    check_radii(r_in, r_out)?;
+    let slices = (length / dp).round().max(1.0);
+    budget::reserve::<D3>(
+        slices * ring_particle_estimate(r_in, r_out, dp),
+        &format!("tube_polar at dp = {dp:?}"),
+    )?;
+    // The ring itself is a 2D set of one slice's size: booked only through the tube above.
+    let ring = budget::scoped(budget::Budget::unlimited(), || {
+        annulus_polar(DVec2::ZERO, r_in, r_out, dp)
+    })?;
     let (u, w) = axis.any_orthonormal_pair();
-    let nz = (length / dp).round().max(1.0) as usize;
+    let nz = slices as usize;
     let dz = length / nz as f64;
     let mut out = ParticleSet::<D3>::new();
     for m in 0..nz {
         let c = base + axis * ((m as f64 + 0.5) * dz);
         let positions = ring.positions().iter().map(|p| c + u * p.x + w * p.y);
-        let mut slice = ParticleSet::from_parts(
+        let mut slice = ParticleSet::<D3>::from_parts(
             positions.collect(),
             ring.volumes().iter().map(|v| v * dz).collect(),
-        )?;
+        )?
+        .with_spacing(dp);
         for name in ring.regions() {
             let members = ring.tagged(name)?;
             slice.tag_particles(name, &members)?;
@@ -1025,6 +1121,10 @@ pub fn hollow_sphere_polar(
     if !centre.is_finite() {
         return Err(Error::invalid("centre", centre, "finite"));
     }
+    budget::reserve::<D3>(
+        sphere_particle_estimate(r_in, r_out, dp),
+        &format!("hollow_sphere_polar at dp = {dp:?}"),
+    )?;
     let shell_volume = |r: f64, dr: f64| {
         let (a, b) = (r - 0.5 * dr, r + 0.5 * dr);
         4.0 / 3.0 * PI * (b * b * b - a * a * a)
@@ -1063,7 +1163,7 @@ pub fn hollow_sphere_polar(
             layer.push(k);
         }
     }
-    let mut set = ParticleSet::from_parts(positions, volumes)?;
+    let mut set = ParticleSet::from_parts(positions, volumes)?.with_spacing(dp);
     let last = radii.len() - 1;
     if r_in > 0.0 {
         set.tag_where("inner", |i, _| layer[i] == 0)?;

@@ -78,6 +78,13 @@ pub trait Solver<D: Dim>: Send {
     /// The stable time step the next step would take (before the `max_dt` cap).
     fn stable_dt(&self) -> f64;
 
+    /// The shortest step one call of [`Solver::step`] is made of: [`Solver::stable_dt`] unless
+    /// the method sub-steps (UL's dual stepping: the acoustic step). Run drivers estimate the
+    /// work of a run from it before they start.
+    fn substep_dt(&self) -> f64 {
+        self.stable_dt()
+    }
+
     /// Simulated time.
     fn time(&self) -> f64;
 

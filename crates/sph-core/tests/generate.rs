@@ -1,4 +1,4 @@
-//! Particle generators: exact lattice counts for the CASES.md geometries (plates, columns, slabs)
+//! Particle generators: exact lattice counts for the benchmark geometries (plates, columns, slabs)
 //! whatever the round-off of `dp`, volumes that sum to the shape's measure, region tags for clamps
 //! and supports, permutation, nearest particle, multi-body merging and input validation.
 
@@ -533,6 +533,7 @@ fn hollow_sphere_polar_volumes_sum_to_the_shell_volume_and_layers_are_spheres() 
         (0.0, 0.05, 0.0025),
     ] {
         let set = hollow_sphere_polar(c, r_in, r_out, dp).unwrap();
+        assert_eq!(set.spacing(), Some(dp));
         let exact = 4.0 / 3.0 * PI * (r_out.powi(3) - r_in.powi(3));
         assert!(
             rel(set.total_volume(), exact) < 1e-10,
@@ -601,4 +602,66 @@ fn hollow_sphere_polar_is_evenly_spaced_and_balanced() {
         .collect();
     let (_, _, lo, hi) = stats(&outer);
     assert!(hi - lo > 0.5 * dp, "lattice surface spread {}", hi - lo);
+}
+
+/// Issue 14 item 3: a ring of `outer_radius = 1e300` (a count beyond every integer) and a lattice
+/// fill far beyond the budget stop with `TooManyParticles` before allocating, not with a
+/// capacity-overflow panic or an allocation abort; within the budget nothing changes.
+#[test]
+fn generators_refuse_counts_beyond_the_budget_before_allocating() {
+    use sph_core::budget::{scoped, Budget, BYTES_PER_PARTICLE_2D, BYTES_PER_PARTICLE_3D};
+    let too_many = |e: Error| match e {
+        Error::TooManyParticles { what, limit, .. } => (what, limit),
+        other => panic!("expected TooManyParticles, got {other:?}"),
+    };
+    scoped(Budget::unlimited(), || {
+        let (what, _) = too_many(annulus_polar(v2(0.0, 0.0), 1.0, 1e300, 0.5).unwrap_err());
+        assert!(what.contains("annulus_polar"), "{what}");
+        too_many(
+            tube_polar(v3(0.0, 0.0, 0.0), v3(0.0, 0.0, 1.0), 0.0, 1.0, 1e300, 0.1).unwrap_err(),
+        );
+        let (what, _) =
+            too_many(hollow_sphere_polar(v3(0.0, 0.0, 0.0), 0.0, 1e300, 0.5).unwrap_err());
+        assert!(what.contains("hollow_sphere_polar"), "{what}");
+    });
+    // 1,000 2D particles' worth of memory: a 100 × 100 square (10,000) does not fit; the error
+    // comes after at most 1,000 kept points, with the estimate of the whole fill.
+    scoped(
+        Budget::with_limit(1_000 * BYTES_PER_PARTICLE_2D, "a test limit"),
+        || {
+            let lattice = Lattice::<D2>::new(0.01, v2(0.0, 0.0)).unwrap();
+            let e = ParticleSet::fill(&lattice, &rect(v2(0.0, 0.0), v2(1.0, 1.0))).unwrap_err();
+            let msg = e.to_string();
+            let (_, limit) = too_many(e);
+            assert!(limit.contains("a test limit"), "{limit}");
+            // The estimate extrapolates from the share of candidates kept so far (the first
+            // row of candidates is margin), so it is rough: within a factor 2 here.
+            let estimate: f64 = msg
+                .split("≈ ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .replace(',', "")
+                .parse()
+                .unwrap();
+            assert!((5_000.0..20_000.0).contains(&estimate), "{msg}");
+            // Two 30 × 30 squares: each fits, both together do not (the scope adds up).
+            let small = rect(v2(0.0, 0.0), v2(0.3, 0.3));
+            assert_eq!(ParticleSet::fill(&lattice, &small).unwrap().len(), 900);
+            too_many(ParticleSet::fill(&lattice, &small).unwrap_err());
+        },
+    );
+    scoped(
+        Budget::with_limit(1_000 * BYTES_PER_PARTICLE_3D, "a test limit"),
+        || {
+            too_many(hollow_sphere(v3(0.0, 0.0, 0.0), 0.0, 1.0, 0.01).unwrap_err());
+            assert!(hollow_sphere(v3(0.0, 0.0, 0.0), 0.0, 1.0, 0.25).is_ok());
+            too_many(hollow_sphere_polar(v3(0.0, 0.0, 0.0), 0.0, 1.0, 0.01).unwrap_err());
+            // The tetrahedron and round(4π r²/dp²) per layer: 4 + 28 + 79 + 154 = 265 particles at
+            // dp = 0.25 fit beside the lattice ball above.
+            assert!(hollow_sphere_polar(v3(0.0, 0.0, 0.0), 0.0, 1.0, 0.25).is_ok());
+        },
+    );
 }

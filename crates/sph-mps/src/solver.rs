@@ -16,7 +16,7 @@ use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
 use sph_core::{
-    Constraints, Dim, Error, Field, Loads, NeighborList, PairKernel, Probe, Solver, StepInfo,
+    Body, Constraints, Dim, Error, Field, Loads, NeighborList, PairKernel, Probe, Solver, StepInfo,
 };
 use sph_materials::{von_mises, Material};
 
@@ -42,7 +42,7 @@ pub enum Integrator {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MpsParams {
     /// Radius of the weight of eq 6 over the initial spacing, `r_e / l0` (> 1). Default 2.1, the
-    /// usual MPS gradient radius (METHODS.md range 2.1–3.1): 12 neighbours in 2D and 32 in 3D on
+    /// usual MPS gradient radius (docs/methods.md range 2.1–3.1): 12 neighbours in 2D and 32 in 3D on
     /// a lattice.
     pub re_over_l0: f64,
     /// Courant number `C` of `Δt = C l0 / c`, `c = √(K/ρ0)` (> 0). Default 0.1 (see the crate's
@@ -70,19 +70,6 @@ impl Default for MpsParams {
             moment_min_eigenvalue: DEFAULT_MIN_EIGENVALUE,
         }
     }
-}
-
-/// The particles of one body in its reference configuration.
-#[derive(Clone, Debug)]
-pub struct MpsBody<D: Dim> {
-    /// Reference positions `X` (also the initial positions).
-    pub positions: Vec<D::Vector>,
-    /// Reference volumes `V_i` (mass `m_i = ρ0 V_i`).
-    pub volumes: Vec<f64>,
-    /// Initial particle spacing `l0` (the paper's; `dp` elsewhere), sets `r_e` and `Δt`.
-    pub dp: f64,
-    /// Initial velocities (empty = at rest).
-    pub velocities: Vec<D::Vector>,
 }
 
 /// Kinetic and strain energy of the body.
@@ -152,14 +139,10 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// `courant ≤ 0`, negative damping, non-finite or coincident positions, a material without
     /// strain energy, or a particle with fewer than `D + 1` neighbours
     /// ([`Error::TooFewNeighbours`]: its `A_i` is singular or nearly so).
-    pub fn new(body: MpsBody<D>, material: M, params: MpsParams) -> Result<Self, Error> {
-        let n = body.positions.len();
-        if n == 0 {
-            return Err(Error::EmptyBody {
-                body: "mps body".into(),
-            });
-        }
-        check_positive("dp", body.dp)?;
+    pub fn new(body: impl Into<Body<D>>, material: M, params: MpsParams) -> Result<Self, Error> {
+        let body: Body<D> = body.into();
+        body.validate("mps body")?;
+        body.reject_densities("mps")?;
         if !(params.re_over_l0.is_finite() && params.re_over_l0 > 1.0) {
             return Err(Error::invalid(
                 "re_over_l0",
@@ -170,42 +153,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         check_positive("courant", params.courant)?;
         check_non_negative("damping", params.damping)?;
         check_positive("moment_min_eigenvalue", params.moment_min_eigenvalue)?;
-        if body.volumes.len() != n {
-            return Err(Error::invalid(
-                "volumes",
-                body.volumes.len(),
-                &format!("one per particle ({n})"),
-            ));
-        }
-        if let Some(i) = body
-            .volumes
-            .iter()
-            .position(|v| !(v.is_finite() && *v > 0.0))
-        {
-            return Err(Error::invalid(
-                &format!("volumes[{i}]"),
-                body.volumes[i],
-                "> 0 and finite",
-            ));
-        }
-        let velocities = if body.velocities.is_empty() {
-            vec![D::zero(); n]
-        } else if body.velocities.len() == n {
-            if let Some(i) = first_non_finite::<D>(&body.velocities) {
-                return Err(Error::invalid(
-                    &format!("velocities[{i}]"),
-                    format!("{:?}", body.velocities[i]),
-                    "finite",
-                ));
-            }
-            body.velocities
-        } else {
-            return Err(Error::invalid(
-                "velocities",
-                body.velocities.len(),
-                &format!("empty or one per particle ({n})"),
-            ));
-        };
+        let n = body.len();
+        let velocities = body.velocities_or_rest();
         if material.strain_energy_density(D::identity()).is_none() {
             return Err(Error::invalid(
                 "material",
@@ -481,6 +430,25 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         }
     }
 
+    /// `C · min(l0/(c + |v|max), √(l0/|a|max))`: what a CFL criterion on the current state
+    /// would allow (the blow-up guard of `step`; NaN if a speed or acceleration is NaN).
+    fn state_dt(&self) -> f64 {
+        let max = |v: &[D::Vector]| {
+            v.par_iter()
+                .map(|&x| D::norm_squared(x))
+                .reduce(|| 0.0, diagnostics::max_or_nan)
+                .sqrt()
+        };
+        let (speed, accel) = (max(&self.velocities), max(&self.accelerations));
+        let acoustic = self.dp / (self.sound_speed + speed);
+        let force = if accel > 0.0 || accel.is_nan() {
+            (self.dp / accel).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        self.params.courant * acoustic.min(force)
+    }
+
     fn check_finite(&self) -> Result<(), Error> {
         diagnostics::check_finite_state::<D>(
             &self.positions,
@@ -489,6 +457,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             self.steps,
             self.time,
         )?;
+        diagnostics::check_jacobians::<D>(&self.deformation, self.steps, self.time)?;
         match first_non_finite::<D>(&self.accelerations) {
             Some(i) => Err(Error::NonFinite {
                 field: "acceleration".into(),
@@ -604,7 +573,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         Energy { kinetic, strain }
     }
 
-    /// The disorder indicator of METHODS.md per particle, with the MPS weights of eq 6 in
+    /// The disorder indicator of docs/methods.md per particle, with the MPS weights of eq 6 in
     /// place of the kernel (`e_i = Σ_j w_ij |F_i X_ij − x_ij| / Σ_j w_ij |X_ij|`).
     pub fn disorder(&self) -> Vec<f64> {
         disorder_indicator::<D>(
@@ -624,16 +593,14 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
 
     /// One symplectic step of `Δt = min(C l0 / c, max_dt)` (see [`Integrator`]).
     fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
-        let dt = self.stable_dt().min(max_dt);
-        let min_dt = 1e-14 * self.dp / self.sound_speed;
-        if !(dt.is_finite() && dt > min_dt) {
-            return Err(Error::TimeStepCollapsed {
-                dt,
-                min: min_dt,
-                step: self.steps,
-                time: self.time,
-            });
+        // Blow-up guard: the step stays C l0/c (the paper's), but the one a CFL criterion on the
+        // current |v| and |a| would allow must stay above MIN_DT_RATIO of it (as TL's eq 33).
+        let floor = diagnostics::MIN_DT_RATIO * self.stable_dt();
+        diagnostics::check_time_step(self.state_dt(), floor, self.steps, self.time)?;
+        if max_dt.is_nan() || max_dt <= 0.0 {
+            return Err(Error::invalid("max_dt", max_dt, "> 0"));
         }
+        let dt = self.stable_dt().min(max_dt);
         let half = 0.5 * dt;
         match self.params.integrator {
             Integrator::VelocityVerlet => {

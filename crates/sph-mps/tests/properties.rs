@@ -16,9 +16,10 @@ mod common;
 use common::*;
 use glam::{DMat2, DMat3, DVec3};
 use proptest::prelude::*;
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Error, Solver, TimeFunction, D2, D3};
 use sph_materials::Material;
-use sph_mps::{Integrator, MpsBody, MpsParams, MpsSolver, SurfacePressure};
+use sph_mps::{Integrator, MpsParams, MpsSolver, SurfacePressure};
 
 // ----------------------------------------------------------------- 1. force = −∂U/∂x
 
@@ -273,17 +274,18 @@ fn invalid_input_is_rejected_naming_the_field() {
     let set = block::<D2>([5, 4, 1]);
     let ok = || body::<D2>(&set);
     let p = MpsParams::default();
-    let build = |b: MpsBody<D2>, p: MpsParams| MpsSolver::new(b, svk(), p).map(|_| ());
+    let build = |b: Body<D2>, p: MpsParams| MpsSolver::new(b, svk(), p).map(|_| ());
 
-    let empty = MpsBody::<D2> {
+    let empty = Body::<D2> {
         positions: vec![],
         volumes: vec![],
         dp: DP,
         velocities: vec![],
+        densities: Vec::new(),
     };
     assert!(matches!(build(empty, p), Err(Error::EmptyBody { .. })));
     for dp in [0.0, -1.0, f64::NAN] {
-        let b = MpsBody { dp, ..ok() };
+        let b = Body { dp, ..ok() };
         assert_eq!(field_of(build(b, p).unwrap_err()), "dp");
     }
     for re in [1.0, 0.5, f64::INFINITY] {
@@ -299,7 +301,7 @@ fn invalid_input_is_rejected_naming_the_field() {
     }
     let q = MpsParams { damping: -1.0, ..p };
     assert_eq!(field_of(build(ok(), q).unwrap_err()), "damping");
-    let b = MpsBody {
+    let b = Body {
         volumes: vec![DP * DP; 3],
         ..ok()
     };
@@ -307,7 +309,7 @@ fn invalid_input_is_rejected_naming_the_field() {
     let mut b = ok();
     b.volumes[4] = 0.0;
     assert_eq!(field_of(build(b, p).unwrap_err()), "volumes[4]");
-    let b = MpsBody {
+    let b = Body {
         velocities: vec![D2::zero(); 2],
         ..ok()
     };
@@ -327,11 +329,12 @@ fn invalid_input_is_rejected_naming_the_field() {
         other => panic!("{other:?}"),
     }
     // A line of particles: A_i is rank one; two isolated particles: too few neighbours.
-    let far = MpsBody::<D2> {
+    let far = Body::<D2> {
         positions: vec![D2::vector([0.0, 0.0, 0.0]), D2::vector([1.0, 0.0, 0.0])],
         volumes: vec![DP * DP; 2],
         dp: DP,
         velocities: vec![],
+        densities: Vec::new(),
     };
     assert!(matches!(
         build(far, p),
@@ -355,9 +358,11 @@ fn invalid_input_is_rejected_naming_the_field() {
 }
 
 #[test]
-fn blow_up_is_reported_as_non_finite() {
+fn blow_up_stops_the_run_with_a_diagnostic() {
     // A Courant number far beyond the stability limit makes the explicit scheme diverge; the
-    // run must stop with NonFinite (not panic, not loop forever).
+    // run must stop with a blow-up diagnostic (not panic, not loop forever). The first sign is
+    // an inverted particle (det F < 0), seen before any value turns non-finite; without the
+    // J check the Saint Venant–Kirchhoff law would go on integrating it.
     let params = MpsParams {
         courant: 5.0,
         ..MpsParams::default()
@@ -375,9 +380,24 @@ fn blow_up_is_reported_as_non_finite() {
         }
     }
     assert!(
-        matches!(err, Some(Error::NonFinite { .. })),
-        "expected NonFinite, got {err:?}"
+        matches!(err, Some(Error::Inverted { jacobian, .. }) if jacobian <= 0.0),
+        "expected Inverted, got {err:?}"
     );
+}
+
+/// A particle thrown at 1000 c0 trips the blow-up guard on the first step: the step a CFL
+/// criterion on |v| would allow is below `MIN_DT_RATIO` of the constant `C l0/c0`.
+#[test]
+fn a_particle_far_faster_than_sound_stops_the_run_as_collapsed() {
+    let mut s = solver_with::<D2, _>([6, 5, 1], svk(), MpsParams::default());
+    let x = s.reference_positions().to_vec();
+    let c0 = sph_materials::Material::<D2>::constants(s.material()).sound_speed;
+    let mut v = vec![D2::zero(); x.len()];
+    v[7] = D2::vector([1000.0 * c0, 0.0, 0.0]);
+    s.set_configuration(x, v).unwrap();
+    let e = s.step(f64::INFINITY).unwrap_err();
+    assert!(matches!(e, Error::TimeStepCollapsed { .. }), "{e:?}");
+    assert_eq!(s.step_count(), 0, "nothing was integrated");
 }
 
 // ----------------------------------------------------------------- 6. pressure, constraints

@@ -45,6 +45,23 @@ pub enum OutputError {
         /// What is missing or wrong.
         message: String,
     },
+    /// A destination that a run must not replace (a link, device, FIFO, directory, or a file
+    /// the run did not write); nothing was written.
+    #[error("{path}: will not write there: {reason}", path = .path.display())]
+    Refused {
+        /// The destination.
+        path: PathBuf,
+        /// Why not.
+        reason: String,
+    },
+    /// Another writer (this process or another) is writing the same results.
+    #[error("{path}: another run{holder} is writing these results; wait for it to finish or write elsewhere", path = .path.display(), holder = .holder.map(|p| format!(" (process {p})")).unwrap_or_default())]
+    Locked {
+        /// The results file.
+        path: PathBuf,
+        /// The process holding the lock, if it could be read.
+        holder: Option<u32>,
+    },
     /// The requested backend is not compiled in (or unknown).
     #[error("output backend `{backend}` is not available: {reason}")]
     BackendUnavailable {
@@ -61,6 +78,13 @@ impl OutputError {
             path: path.into(),
             op,
             source,
+        }
+    }
+
+    pub(crate) fn refused(path: impl Into<PathBuf>, reason: impl Into<String>) -> Self {
+        OutputError::Refused {
+            path: path.into(),
+            reason: reason.into(),
         }
     }
 

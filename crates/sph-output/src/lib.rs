@@ -41,12 +41,18 @@
 //! what [`read_file`] returns, so a round trip is exact; a key literally named `json`, or one
 //! that is not a valid attribute name (empty, or containing `/` or `.` alone), is only in `json`.
 //!
-//! # Never half-written
+//! # Never half-written, never clobbering
 //!
-//! A writer writes to `<name>.h5.tmp`; [`ResultWriter::finish`] closes it and renames it to
-//! `<name>.h5`, then writes `<name>.xmf.tmp` and renames it to `<name>.xmf`. A writer dropped
-//! without `finish` (a panic, a crash) leaves only `<name>.h5.tmp`, never a file that looks
-//! finished. Both backends write **incrementally**: each `write_*` call is durable in the
+//! A writer writes to a temporary file of its own, `<name>.h5.<pid>-<k>.tmp`, created
+//! exclusively ([`safety::TempFile`]); [`ResultWriter::finish`] closes it and renames it to
+//! `<name>.h5`, then writes the sidecar the same way and renames it to `<name>.xmf`. A writer
+//! dropped without `finish` (a panic, a crash) leaves only its `.tmp`, never a file that looks
+//! finished. While it lives, a writer holds an exclusive lock on `<name>.h5.lock`
+//! ([`safety::OutputLock`]), so a second writer of the same results fails at once with
+//! [`OutputError::Locked`] instead of interleaving with the first. It replaces an existing
+//! `<name>.h5` only if that is an sph-solids results file and `<name>.xmf` only if that is an
+//! XDMF file, never a link, device, FIFO or directory ([`safety::check_results_destination`],
+//! [`OutputError::Refused`]). Both backends write **incrementally**: each `write_*` call is durable in the
 //! `.tmp` file when it returns (the pure backend commits and fsyncs it, the C backend flushes
 //! it), so a `.tmp` left behind is a valid HDF5 file holding everything written until then,
 //! and memory does not grow with the number of snapshots. Each call validates its input before
@@ -77,7 +83,7 @@
 //! ])?;
 //! let summary = serde_json::json!({"status": "ok", "steps": 0});
 //! w.write_summary(summary.as_object().unwrap())?;
-//! let h5 = w.finish()?; // beam.h5 and beam.xmf now exist; beam.h5.tmp is gone
+//! let h5 = w.finish()?; // beam.h5 and beam.xmf now exist; the temporary file is gone
 //! let back = read_file(&h5)?;
 //! assert_eq!(back.snapshots[0].dataset("position").unwrap().shape(), &[2, 3]);
 //! # std::fs::remove_dir_all(&dir)?;
@@ -91,6 +97,7 @@ mod error;
 mod metno;
 mod pure;
 mod read;
+pub mod safety;
 mod writer;
 pub mod xdmf;
 
@@ -156,12 +163,17 @@ pub trait ResultWriter: Send {
         summary: &serde_json::Map<String, serde_json::Value>,
     ) -> Result<(), OutputError>;
 
-    /// Completes the file: closes `<name>.h5.tmp`, renames it to `<name>.h5`, and writes the
-    /// XDMF sidecar `<name>.xmf` (via `<name>.xmf.tmp`). Returns the path of the `.h5` file.
+    /// Completes the file: closes its temporary file, renames it to `<name>.h5`, and writes the
+    /// XDMF sidecar `<name>.xmf` (through a temporary file too), then releases the lock.
+    /// Returns the path of the `.h5` file.
     fn finish(self: Box<Self>) -> Result<PathBuf, OutputError>;
 
     /// The path of the `.h5` file this writer produces on [`finish`](Self::finish).
     fn final_path(&self) -> &Path;
+
+    /// The temporary file the writer writes until [`finish`](Self::finish)
+    /// (`<name>.h5.<pid>-<k>.tmp`; it stays, a valid HDF5 file, if the writer is dropped).
+    fn temp_path(&self) -> &Path;
 }
 
 /// Which HDF5 implementation writes the file.
@@ -219,20 +231,16 @@ pub fn xmf_path(path_without_ext: &Path) -> PathBuf {
     with_suffix(path_without_ext, ".xmf")
 }
 
-/// The temporary name a writer writes to before [`ResultWriter::finish`]: `<name>.h5.tmp`.
-pub fn tmp_path(path_without_ext: &Path) -> PathBuf {
-    with_suffix(path_without_ext, ".h5.tmp")
-}
-
 pub(crate) fn with_suffix(p: &Path, suffix: &str) -> PathBuf {
     let mut s = p.as_os_str().to_os_string();
     s.push(suffix);
     PathBuf::from(s)
 }
 
-/// Starts a results file `<path_without_ext>.h5` (written as `<path_without_ext>.h5.tmp` until
-/// [`ResultWriter::finish`]). A stale `.tmp` of an earlier run is overwritten; an existing
-/// `.h5` is replaced only by `finish`. The parent directory must exist.
+/// Starts a results file `<path_without_ext>.h5`, written to a temporary file of its own until
+/// [`ResultWriter::finish`]. Fails before writing anything if the destination may not be
+/// replaced ([`safety::check_results_destination`]) or another writer holds its lock. An
+/// existing `.h5` is replaced only by `finish`. The parent directory must exist.
 pub fn create_writer(
     path_without_ext: &Path,
     backend: Backend,

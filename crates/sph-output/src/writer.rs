@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{Map, Value};
 
 use crate::data::{check_name, Dataset};
+use crate::safety::{OutputLock, TempFile};
 use crate::xdmf::{self, XdmfField, XdmfSnapshot};
 use crate::{OutputError, ResultWriter, FORMAT_NAME, FORMAT_VERSION};
 
@@ -43,7 +44,8 @@ pub(crate) type SinkFactory = fn(&Path, &[(String, Attr)]) -> Result<Box<dyn Sin
 pub(crate) const TOP_GROUPS: [&str; 5] = ["meta", "snapshots", "probes", "series", "summary"];
 
 pub(crate) struct LayoutWriter {
-    tmp: PathBuf,
+    tmp: TempFile,
+    lock: OutputLock,
     h5: PathBuf,
     xmf: PathBuf,
     sink: Box<dyn Sink>,
@@ -54,19 +56,22 @@ pub(crate) struct LayoutWriter {
 
 impl LayoutWriter {
     pub(crate) fn new(path_without_ext: &Path, factory: SinkFactory) -> Result<Self, OutputError> {
-        let tmp = crate::tmp_path(path_without_ext);
         let h5 = crate::h5_path(path_without_ext);
         let xmf = crate::xmf_path(path_without_ext);
-        if tmp.exists() {
-            std::fs::remove_file(&tmp).map_err(|e| OutputError::io(&tmp, "remove stale", e))?;
-        }
+        // Lock first, then check: the destination cannot change under a held lock (except by
+        // someone who ignores it).
+        let lock = OutputLock::acquire(&h5)?;
+        crate::safety::check_results_destination(path_without_ext)?;
+        // Kept if the writer is dropped: the partial results of a run that died.
+        let tmp = TempFile::beside(&h5, false)?;
         let root_attrs = vec![
             ("format".to_string(), Attr::Str(FORMAT_NAME.to_string())),
             ("format_version".to_string(), Attr::U64(FORMAT_VERSION)),
         ];
-        let sink = factory(&tmp, &root_attrs)?;
+        let sink = factory(tmp.path(), &root_attrs)?;
         Ok(LayoutWriter {
             tmp,
+            lock,
             h5,
             xmf,
             sink,
@@ -81,7 +86,7 @@ impl LayoutWriter {
         group: &str,
         map: &Map<String, Value>,
     ) -> Result<(), OutputError> {
-        let attrs = json_attrs(map).map_err(|m| OutputError::invalid(&self.tmp, m))?;
+        let attrs = json_attrs(map).map_err(|m| OutputError::invalid(self.tmp.path(), m))?;
         self.sink.write_group(
             &GroupSpec {
                 path: group.to_string(),
@@ -146,7 +151,7 @@ impl ResultWriter for LayoutWriter {
         step: u64,
         datasets: &[Dataset],
     ) -> Result<(), OutputError> {
-        let invalid = |m: String| OutputError::invalid(&self.tmp, format!("snapshot: {m}"));
+        let invalid = |m: String| OutputError::invalid(self.tmp.path(), format!("snapshot: {m}"));
         let mut names = std::collections::BTreeSet::new();
         for ds in datasets {
             ds.validate().map_err(invalid)?;
@@ -196,17 +201,18 @@ impl ResultWriter for LayoutWriter {
         positions: &[[f64; 3]],
         velocities: &[[f64; 3]],
     ) -> Result<(), OutputError> {
-        check_name(name)
-            .map_err(|e| OutputError::invalid(&self.tmp, format!("probe name {name:?}: {e}")))?;
+        check_name(name).map_err(|e| {
+            OutputError::invalid(self.tmp.path(), format!("probe name {name:?}: {e}"))
+        })?;
         if self.probes.iter().any(|p| p == name) {
             return Err(OutputError::invalid(
-                &self.tmp,
+                self.tmp.path(),
                 format!("probe {name:?} written twice"),
             ));
         }
         if positions.len() != times.len() || velocities.len() != times.len() {
             return Err(OutputError::invalid(
-                &self.tmp,
+                self.tmp.path(),
                 format!(
                     "probe {name:?}: {} times, {} positions, {} velocities (must be equal)",
                     times.len(),
@@ -236,28 +242,32 @@ impl ResultWriter for LayoutWriter {
         times: &[f64],
         columns: &[(&str, &[f64])],
     ) -> Result<(), OutputError> {
-        check_name(name)
-            .map_err(|e| OutputError::invalid(&self.tmp, format!("series name {name:?}: {e}")))?;
+        check_name(name).map_err(|e| {
+            OutputError::invalid(self.tmp.path(), format!("series name {name:?}: {e}"))
+        })?;
         if self.series.iter().any(|p| p == name) {
             return Err(OutputError::invalid(
-                &self.tmp,
+                self.tmp.path(),
                 format!("series {name:?} written twice"),
             ));
         }
         let mut sets = vec![Dataset::scalars("time", times)];
         for (c, values) in columns {
             check_name(c).map_err(|e| {
-                OutputError::invalid(&self.tmp, format!("series {name:?} column {c:?}: {e}"))
+                OutputError::invalid(
+                    self.tmp.path(),
+                    format!("series {name:?} column {c:?}: {e}"),
+                )
             })?;
             if *c == "time" || sets.iter().any(|d| d.name == *c) {
                 return Err(OutputError::invalid(
-                    &self.tmp,
+                    self.tmp.path(),
                     format!("series {name:?}: column {c:?} repeated or named `time`"),
                 ));
             }
             if values.len() != times.len() {
                 return Err(OutputError::invalid(
-                    &self.tmp,
+                    self.tmp.path(),
                     format!(
                         "series {name:?} column {c:?}: {} values for {} times",
                         values.len(),
@@ -286,6 +296,7 @@ impl ResultWriter for LayoutWriter {
     fn finish(self: Box<Self>) -> Result<PathBuf, OutputError> {
         let LayoutWriter {
             tmp,
+            lock,
             h5,
             xmf,
             sink,
@@ -293,23 +304,26 @@ impl ResultWriter for LayoutWriter {
             ..
         } = *self;
         sink.close()?;
-        sync_file(&tmp)?;
-        std::fs::rename(&tmp, &h5).map_err(|e| OutputError::io(&tmp, "rename to .h5", e))?;
+        sync_file(tmp.path())?;
+        tmp.persist(&h5)?;
         let h5_name = h5
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         let text = xdmf::render(&h5_name, &snapshots);
-        let xmf_tmp = crate::with_suffix(&xmf, ".tmp");
-        std::fs::write(&xmf_tmp, text).map_err(|e| OutputError::io(&xmf_tmp, "write", e))?;
-        sync_file(&xmf_tmp)?;
-        std::fs::rename(&xmf_tmp, &xmf)
-            .map_err(|e| OutputError::io(&xmf_tmp, "rename to .xmf", e))?;
+        let mut xmf_tmp = TempFile::beside(&xmf, true)?;
+        xmf_tmp.write_all(text.as_bytes())?;
+        xmf_tmp.persist(&xmf)?;
+        drop(lock);
         Ok(h5)
     }
 
     fn final_path(&self) -> &Path {
         &self.h5
+    }
+
+    fn temp_path(&self) -> &Path {
+        self.tmp.path()
     }
 }
 

@@ -7,14 +7,14 @@ use std::path::Path;
 use std::process::Command;
 
 use common::*;
-use sph_output::{read_file, tmp_path, xmf_path, Backend};
+use sph_output::{read_file, xmf_path, Backend};
 
 #[test]
 fn metno_written_pure_read_round_trip() {
     let dir = scratch("metno");
     let base = dir.join("run");
     let h5 = write_all(&base, Backend::Metno);
-    assert!(!tmp_path(&base).exists());
+    assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
     assert!(xmf_path(&base).exists());
     check_contents(&read_file(&h5).unwrap());
 }

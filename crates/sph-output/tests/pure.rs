@@ -3,9 +3,7 @@
 mod common;
 
 use common::*;
-use sph_output::{
-    create_writer, h5_path, read_file, tmp_path, xmf_path, Backend, Dataset, OutputError,
-};
+use sph_output::{create_writer, h5_path, read_file, xmf_path, Backend, Dataset, OutputError};
 
 #[test]
 fn round_trip_is_bit_identical() {
@@ -31,7 +29,11 @@ fn metno_without_feature_is_a_clear_error() {
         .expect("must fail");
     assert!(matches!(e, OutputError::BackendUnavailable { .. }));
     assert!(e.to_string().contains("hdf5-metno"), "{e}");
-    assert!(!tmp_path(&dir.join("x")).exists());
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "nothing written"
+    );
 }
 
 #[test]
@@ -39,36 +41,107 @@ fn tmp_until_finish_then_renamed() {
     let dir = scratch("tmp");
     let base = dir.join("run");
     let mut w = create_writer(&base, Backend::Pure).unwrap();
-    assert!(tmp_path(&base).exists());
+    let tmp = w.temp_path().to_path_buf();
+    assert!(tmp.exists());
+    let name = tmp.file_name().unwrap().to_string_lossy().into_owned();
+    assert!(
+        name.starts_with(&format!("run.h5.{}-", std::process::id())) && name.ends_with(".tmp"),
+        "{name}"
+    );
     assert!(!h5_path(&base).exists());
     let (t, s, d) = snapshot(0);
     w.write_snapshot(t, s, &d).unwrap();
     assert!(!h5_path(&base).exists());
     assert!(!xmf_path(&base).exists());
     // The .tmp is a valid file with everything written so far (incremental, durable).
-    let partial = read_file(tmp_path(&base)).unwrap();
+    let partial = read_file(&tmp).unwrap();
     assert_eq!(partial.snapshots.len(), 1);
     let h5 = w.finish().unwrap();
     assert!(h5.exists());
     assert!(xmf_path(&base).exists());
-    assert!(!tmp_path(&base).exists());
-    assert!(!dir.join("run.xmf.tmp").exists());
+    assert!(!tmp.exists());
+    assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
 }
 
 #[test]
 fn dropped_writer_leaves_only_tmp() {
     let dir = scratch("drop");
     let base = dir.join("run");
-    {
+    let tmp = {
         let mut w = create_writer(&base, Backend::Pure).unwrap();
         let (t, s, d) = snapshot(1);
         w.write_snapshot(t, s, &d).unwrap();
+        w.temp_path().to_path_buf()
         // dropped without finish, as on a panic
-    }
-    assert!(tmp_path(&base).exists());
+    };
+    assert!(tmp.exists());
     assert!(!h5_path(&base).exists());
     assert!(!xmf_path(&base).exists());
-    assert_eq!(read_file(tmp_path(&base)).unwrap().snapshots.len(), 1);
+    assert_eq!(read_file(&tmp).unwrap().snapshots.len(), 1);
+    // The lock went with the writer: the next run of the same results starts.
+    let w = create_writer(&base, Backend::Pure).unwrap();
+    assert_ne!(
+        w.temp_path(),
+        tmp,
+        "a new run never reuses another's temporary file"
+    );
+}
+
+/// Issue 14, item 2: two writers of the same results never share a file; the second fails at
+/// once, naming the holder, and writes nothing; different results in one directory coexist.
+#[test]
+fn a_second_writer_of_the_same_results_is_refused_while_the_first_lives() {
+    let dir = scratch("lock");
+    let base = dir.join("run");
+    let mut first = create_writer(&base, Backend::Pure).unwrap();
+    let e = create_writer(&base, Backend::Pure).err().expect("locked");
+    assert!(matches!(e, OutputError::Locked { holder: Some(p), .. } if p == std::process::id()));
+    assert!(e.to_string().contains("another run"), "{e}");
+    let other = create_writer(&dir.join("other"), Backend::Pure).unwrap();
+    let (t, s, d) = snapshot(0);
+    first.write_snapshot(t, s, &d).unwrap();
+    first.finish().unwrap();
+    other.finish().unwrap();
+    // Finished: the same results may be written again, replacing the first.
+    create_writer(&base, Backend::Pure)
+        .unwrap()
+        .finish()
+        .unwrap();
+    assert_eq!(read_file(h5_path(&base)).unwrap().snapshots.len(), 0);
+    assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
+}
+
+/// Issue 14, item 1: a writer replaces only what a run wrote. A `.h5` that is not a results
+/// file, or a `.h5`/`.xmf` that is a link or a directory, is refused before anything is
+/// written, and left as it was.
+#[test]
+fn a_writer_refuses_destinations_it_did_not_write() {
+    let dir = scratch("refuse");
+    let base = dir.join("run");
+    std::fs::write(h5_path(&base), "my notes").unwrap();
+    let e = create_writer(&base, Backend::Pure).err().expect("refused");
+    assert!(matches!(e, OutputError::Refused { .. }), "{e}");
+    assert!(
+        e.to_string().contains("not an sph-solids results file"),
+        "{e}"
+    );
+    assert_eq!(std::fs::read_to_string(h5_path(&base)).unwrap(), "my notes");
+    std::fs::remove_file(h5_path(&base)).unwrap();
+    std::fs::create_dir(xmf_path(&base)).unwrap();
+    let e = create_writer(&base, Backend::Pure).err().expect("refused");
+    assert!(e.to_string().contains("a directory"), "{e}");
+    std::fs::remove_dir(xmf_path(&base)).unwrap();
+    #[cfg(unix)]
+    {
+        let target = dir.join("target.h5");
+        write_all(&dir.join("target"), Backend::Pure);
+        let before = std::fs::read(&target).unwrap();
+        std::os::unix::fs::symlink(&target, h5_path(&base)).unwrap();
+        let e = create_writer(&base, Backend::Pure).err().expect("refused");
+        assert!(e.to_string().contains("symbolic link"), "{e}");
+        assert_eq!(std::fs::read(&target).unwrap(), before);
+    }
+    assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
 }
 
 #[test]
@@ -105,7 +178,7 @@ fn rejected_calls_leave_the_writer_usable() {
         .write_probe("p", &[0.0], &[[1.0, 2.0, 3.0]], &[[0.0; 3]])
         .unwrap_err();
     assert!(
-        e.to_string().contains("run.h5.tmp"),
+        e.to_string().contains(&w.temp_path().display().to_string()),
         "error names the file: {e}"
     );
     // The simulation failed: summary with the failure, then finish keeps everything.

@@ -1,4 +1,4 @@
-//! Contact between the bodies of one UL solver (METHODS.md "Separate bodies", after SPHinXsys's
+//! Contact between the bodies of one UL solver (docs/methods.md "Separate bodies", after SPHinXsys's
 //! contact density and contact force), see [`crate::UlSolver::with_contact`].
 //!
 //! Each body keeps its own neighbours (pressure, shear, continuity and `B` see only the own
@@ -8,7 +8,7 @@
 //! `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,  `p_c,i = κ c0² ρ_c,i`,
 //! `a_i −= (2/m_i) Σ_j ½(p_c,i + p_c,j) V_i V_j W′_ij e_ij`,
 //!
-//! with the scale `κ` ([`crate::UlParams::contact_scale`], 1 = METHODS.md). Only pairs closer
+//! with the scale `κ` ([`crate::UlParams::contact_scale`], 1 = docs/methods.md). Only pairs closer
 //! than `dp` raise the contact density, so bodies whose surface particles (half a spacing inside
 //! the surface) are further apart than `dp` do not interact: the contact starts when the
 //! surfaces touch. Each pair term is antisymmetric, so linear momentum is conserved to
@@ -183,7 +183,7 @@ impl<D: Dim> Contact<D> {
     }
 }
 
-/// The contact density of METHODS.md: `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j` over the
+/// The contact density of docs/methods.md: `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j` over the
 /// inter-body pairs of `list`.
 fn contact_density<D: Dim>(
     list: &NeighborList,
@@ -201,7 +201,7 @@ fn contact_density<D: Dim>(
     });
 }
 
-/// Contact force of one pair (METHODS.md, SPHinXsys's contact force), the factor of `e_ij` in
+/// Contact force of one pair (docs/methods.md, SPHinXsys's contact force), the factor of `e_ij` in
 /// `m_i a_i`: `−2 p* V_i V_j W′_ij` with `p* = ½(p_c,i + p_c,j)`; positive (repulsive) for
 /// `W′ < 0`.
 #[inline(always)]

@@ -39,6 +39,7 @@ use crate::stepping::{acoustic_dt, advection_dt, next_substep, Stepping};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
+use sph_core::diagnostics;
 use sph_core::disorder::{affine_fit, disorder_indicator};
 use sph_core::error::check_positive;
 use sph_core::neighbor::{apply_permutation, invert_permutation};
@@ -46,7 +47,7 @@ use sph_core::pairs::{fill_pair_kernels, pair_kernels};
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::{
-    CellGrid, Constraints, Dim, EnergyBudget, Error, Field, Kernel, Loads, NeighborList,
+    Body, CellGrid, Constraints, Dim, EnergyBudget, Error, Field, Kernel, Loads, NeighborList,
     PairKernel, Probe, Series, Solver, StepInfo, WendlandC2,
 };
 use sph_materials::{von_mises, ElasticConstants};
@@ -65,7 +66,8 @@ pub struct UlParams {
     /// Floor of `|v|max` in eq 21, as a fraction of `c0` (0.01: at most `20 h/c0`, i.e. 50
     /// acoustic sub-steps, per advection step for a body nearly at rest).
     pub speed_floor: f64,
-    /// Riemann solver form (the paper's by default).
+    /// Riemann solver form (default: SPHinXsys's solid tests, β = 1 and no pressure jump; see
+    /// [`RiemannScheme`]).
     pub riemann: RiemannScheme,
     /// Correct the velocity gradient with `B` (eq 26) in OG/OAS too. Default false: the paper's
     /// eq 14 has none, and only the uncorrected gradient makes the OG pair (eq 13–14)
@@ -81,7 +83,7 @@ pub struct UlParams {
     pub reorder: bool,
     /// Recompute the pair kernel data (`e_ij`, `r_ij`, `W`, `W′`) from the half-step positions
     /// in every acoustic sub-step, over the neighbour list of the last rebuild (the list, the
-    /// cell list and `B` stay those of the rebuild). Default **on**. Off is METHODS.md's scheme
+    /// cell list and `B` stay those of the rebuild). Default **on**. Off is docs/methods.md's scheme
     /// (the data of the rebuild serve the whole advection step), which makes the 2D plate
     /// (ENOG, H/dp = 10, v_f = 0.05) soften secularly: its period grows 0.278 → 0.298 s within
     /// 3 s and 0.277 → 0.366 s within 10 s, the amplitude growing with it; with the refresh the
@@ -95,7 +97,7 @@ pub struct UlParams {
     /// counting them ([`UlSolver::isolated_max`]), instead of stopping with
     /// `Error::LostNeighbours` (default false).
     pub allow_isolated: bool,
-    /// Scale `κ` of the contact pressure between bodies, `p_c = κ c0² ρ_c` (1: METHODS.md; see
+    /// Scale `κ` of the contact pressure between bodies, `p_c = κ c0² ρ_c` (1: docs/methods.md; see
     /// [`crate::contact`]). Only used with [`UlSolver::with_contact`].
     pub contact_scale: f64,
     /// Keep the energy budget ([`UlSolver::energy_budget`]): the force gather also sums the
@@ -117,7 +119,7 @@ impl Default for UlParams {
             cfl_advection: 0.2,
             cfl_acoustic: 0.4,
             speed_floor: 0.01,
-            riemann: RiemannScheme::Paper,
+            riemann: RiemannScheme::SphinxsysTests,
             corrected_velocity_gradient: false,
             track_shear_stress: true,
             reorder: true,
@@ -128,21 +130,6 @@ impl Default for UlParams {
             energy_budget: true,
         }
     }
-}
-
-/// The particles of one body in their initial configuration.
-#[derive(Clone, Debug)]
-pub struct UlBody<D: Dim> {
-    /// Initial positions.
-    pub positions: Vec<D::Vector>,
-    /// Initial volumes `V⁰` (masses are `ρ0 V⁰`).
-    pub volumes: Vec<f64>,
-    /// Initial particle spacing `dp` (sets h).
-    pub dp: f64,
-    /// Initial velocities (empty = at rest).
-    pub velocities: Vec<D::Vector>,
-    /// Initial densities (empty = `ρ0` everywhere; otherwise a pre-pressurised state).
-    pub densities: Vec<f64>,
 }
 
 /// Variant data resolved at construction.
@@ -252,18 +239,13 @@ impl<D: Dim> UlSolver<D> {
     /// non-finite positions or velocities, or a particle without neighbours
     /// ([`Error::TooFewNeighbours`]).
     pub fn new(
-        body: UlBody<D>,
+        body: impl Into<Body<D>>,
         constants: ElasticConstants,
         shear: Shear,
         params: UlParams,
     ) -> Result<Self, Error> {
-        let n = body.positions.len();
-        if n == 0 {
-            return Err(Error::EmptyBody {
-                body: "ul body".into(),
-            });
-        }
-        check_positive("dp", body.dp)?;
+        let body: Body<D> = body.into();
+        body.validate("ul body")?;
         check_positive("h_over_dp", params.h_over_dp)?;
         check_positive("cfl_advection", params.cfl_advection)?;
         check_positive("cfl_acoustic", params.cfl_acoustic)?;
@@ -274,33 +256,9 @@ impl<D: Dim> UlSolver<D> {
         )?;
         check_positive("contact_scale", params.contact_scale)?;
         shear.validate()?;
-        check_per_particle("volumes", &body.volumes, n, false)?;
+        let n = body.len();
         check_per_particle("densities", &body.densities, n, true)?;
-        if let Some(i) = first_non_finite::<D>(&body.positions) {
-            return Err(Error::invalid(
-                &format!("positions[{i}]"),
-                format!("{:?}", body.positions[i]),
-                "finite",
-            ));
-        }
-        let velocities = if body.velocities.is_empty() {
-            vec![D::zero(); n]
-        } else if body.velocities.len() == n {
-            body.velocities
-        } else {
-            return Err(Error::invalid(
-                "velocities",
-                body.velocities.len(),
-                &format!("empty or one per particle ({n})"),
-            ));
-        };
-        if let Some(i) = first_non_finite::<D>(&velocities) {
-            return Err(Error::invalid(
-                &format!("velocities[{i}]"),
-                format!("{:?}", velocities[i]),
-                "finite",
-            ));
-        }
+        let velocities = body.velocities_or_rest();
         let rho0 = constants.density;
         let kernel = WendlandC2::<D>::from_spacing(body.dp, params.h_over_dp)?;
         let variant = match shear {
@@ -408,7 +366,7 @@ impl<D: Dim> UlSolver<D> {
     }
 
     /// Attaches the constraints. Particle indices refer to the body's **original** order (the
-    /// order of [`UlBody::positions`]); they are remapped to the current order and at every
+    /// order of [`Body::positions`]); they are remapped to the current order and at every
     /// reordering. Constrained particles are excluded from the time-step maxima.
     pub fn with_constraints(mut self, mut constraints: Constraints<D>) -> Self {
         constraints.remap(&self.inverse_index());
@@ -434,10 +392,10 @@ impl<D: Dim> UlSolver<D> {
     }
 
     /// Makes the particles separate bodies (`body_of[i]` for input particle `i`) that meet
-    /// through contact (METHODS.md, SPHinXsys; see [`crate::contact`]): each body keeps its own
-    /// neighbours (pressure, shear, continuity and `B` see only the own body), and particles of
-    /// different bodies closer than the kernel support push each other apart with the contact
-    /// pressure `p_c = κ c0² ρ_c`, `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,
+    /// through contact (docs/methods.md, SPHinXsys; see [`crate::contact`]): each body keeps
+    /// its own neighbours (pressure, shear, continuity and `B` see only the own body), and
+    /// particles of different bodies closer than the kernel support push each other apart with
+    /// the contact pressure `p_c = κ c0² ρ_c`, `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,
     /// `a_i −= (2/m_i) Σ_j ½(p_c,i + p_c,j) V_i V_j W′_ij e_ij` (`κ` =
     /// [`UlParams::contact_scale`]) — antisymmetric per pair, so momentum is conserved;
     /// repulsive only (bodies separate freely). The contact force on each body is recorded
@@ -1016,12 +974,17 @@ impl<D: Dim> UlSolver<D> {
         if let Some(i) = first_non_finite::<D>(&self.velocities) {
             return Err(fail("velocity", i));
         }
-        if let Some(i) = self
-            .densities
-            .iter()
-            .position(|r| !(r.is_finite() && *r > 0.0))
-        {
+        if let Some(i) = self.densities.iter().position(|r| !r.is_finite()) {
             return Err(fail("density", i));
+        }
+        // J = ρ0/ρ: a density that is not positive is an inverted particle.
+        if let Some(i) = self.densities.iter().position(|&r| r <= 0.0) {
+            return Err(Error::Inverted {
+                particle: self.original_index[i] as usize,
+                jacobian: self.constants.density / self.densities[i],
+                step: self.steps,
+                time: self.time,
+            });
         }
         Ok(())
     }
@@ -1197,12 +1160,12 @@ impl<D: Dim> UlSolver<D> {
         )
     }
 
-    /// The disorder indicator of METHODS.md per particle (current order), accumulated since the
-    /// start: Ganzenmüller's error of the weighted least-squares affine fit from the initial
+    /// The disorder indicator of docs/methods.md per particle (current order), accumulated since
+    /// the start: Ganzenmüller's error of the weighted least-squares affine fit from the initial
     /// configuration to the current one, over the current neighbours with weights `W⁰` of the
     /// initial distances (neighbours that were not neighbours initially get `W⁰ = 0`).
     ///
-    /// METHODS.md suggests the fit over the last advection step for UL; that measures the
+    /// docs/methods.md suggests the fit over the last advection step for UL; that measures the
     /// non-affine *increment* of one step (≤ 3·10⁻⁴ on the plate whether or not it is ordered)
     /// and misses a zigzag pattern once it has formed, so the accumulated form is reported;
     /// [`UlSolver::disorder_increment`] gives the per-step form.
@@ -1225,7 +1188,7 @@ impl<D: Dim> UlSolver<D> {
 
     /// The per-step disorder indicator: the affine fit of the motion since the last rebuild
     /// (the last advection step for dual stepping, the last acoustic step for single stepping)
-    /// over the neighbours of that rebuild (METHODS.md's UL form).
+    /// over the neighbours of that rebuild (docs/methods.md's UL form).
     pub fn disorder_increment(&self) -> Vec<f64> {
         let f = affine_fit::<D>(
             &self.list,
@@ -1310,11 +1273,12 @@ fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Resul
 }
 
 /// Largest `|v|` over the particles marked free.
+/// Largest `|v|` over the free particles; NaN if any is NaN (so the time-step guard sees it).
 fn max_norm<D: Dim>(v: &[D::Vector], free: &[bool]) -> f64 {
     v.iter()
         .zip(free)
         .map(|(&x, &f)| if f { D::norm_squared(x) } else { 0.0 })
-        .fold(0.0, f64::max)
+        .fold(0.0, diagnostics::max_or_nan)
         .sqrt()
 }
 
@@ -1327,16 +1291,15 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
     /// acoustic sub-steps (eq 22–25) until the advection step is filled exactly. Single
     /// stepping: rebuild, then one acoustic step of `min(Δt_ac, max_dt)`.
     fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
-        let dt = self.stable_dt().min(max_dt);
-        let min_dt = 1e-14 * self.kernel.h() / self.c0;
-        if !(dt.is_finite() && dt > min_dt) {
-            return Err(Error::TimeStepCollapsed {
-                dt,
-                min: min_dt,
-                step: self.steps,
-                time: self.time,
-            });
+        // Blow-up guard (diagnostics::MIN_DT_RATIO of the acoustic step at rest), checked on
+        // the advection step here and on every acoustic sub-step below.
+        let floor = diagnostics::MIN_DT_RATIO
+            * acoustic_dt(self.params.cfl_acoustic, self.kernel.h(), self.c0, 0.0);
+        diagnostics::check_time_step(self.stable_dt(), floor, self.steps, self.time)?;
+        if max_dt.is_nan() || max_dt <= 0.0 {
+            return Err(Error::invalid("max_dt", max_dt, "> 0"));
         }
+        let dt = self.stable_dt().min(max_dt);
         self.rebuild()?;
         let start = self.time;
         match self.params.stepping {
@@ -1350,6 +1313,10 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
                         self.c0,
                         self.max_speed,
                     );
+                    if stable.is_nan() || stable <= floor {
+                        self.check_finite()?;
+                    }
+                    diagnostics::check_time_step(stable, floor, self.steps, self.time)?;
                     let sub = next_substep(stable, dt - elapsed);
                     self.acoustic_step(sub);
                     elapsed += sub;
@@ -1384,6 +1351,16 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
             ),
             Stepping::Single => acoustic_dt(self.params.cfl_acoustic, h, self.c0, self.max_speed),
         }
+    }
+
+    /// The acoustic step of eq 22 (what a dual step is made of).
+    fn substep_dt(&self) -> f64 {
+        acoustic_dt(
+            self.params.cfl_acoustic,
+            self.kernel.h(),
+            self.c0,
+            self.max_speed,
+        )
     }
 
     fn time(&self) -> f64 {

@@ -4,17 +4,33 @@
 //! sph list [--verbose]
 //! sph run <case> [--method M] [--set key=value]... [--config case.toml] [--out DIR]
 //!         [--summary FILE.json] [--backend pure|hdf5-metno] [--threads N] [--no-output]
+//!         [--max-memory GIB] [--allow-long-run] [--dry-run]
 //! ```
-//! Exit status: 0 on success, 2 for bad input (nothing is written), 1 when the run failed
-//! mid-way (the results file is completed with what was computed, its summary says why).
+//! Exit status: 0 on success, 2 for bad input (one line on stderr; nothing is written), 1 when
+//! the run failed mid-way (the results file is completed with what was computed, its summary
+//! says why), 128 + the signal (130 for SIGINT, 143 for SIGTERM) when interrupted (the current
+//! step is finished, the file completed with the status `interrupted at t = …`, the summary
+//! written; a second signal ends the process at once). See `docs/reliability.md`.
 
 use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::Value as Json;
+use sph_cases::preflight::{write_summary, RunFiles};
+use sph_cases::runner::{Interrupt, Progress, ProgressSink};
 use sph_cases::{all_cases, find_case, resolve_method, CaseError, RunOptions, Value};
+use sph_core::budget::{self, Budget};
 use sph_output::Backend;
-use std::io::IsTerminal;
+use sph_scene::Scene;
+use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
+#[cfg(unix)]
+use std::sync::atomic::AtomicBool;
+use std::sync::atomic::AtomicUsize;
+use std::sync::Arc;
+
+/// Most worker threads `--threads` accepts.
+const MAX_THREADS: usize = 1024;
 
 #[derive(Parser)]
 #[command(
@@ -34,60 +50,89 @@ enum Command {
         /// Show every parameter with its default, range and meaning.
         #[arg(long, short)]
         verbose: bool,
-    },
-    /// Run a case.
-    Run {
-        /// Case name (see `sph list`).
-        case: String,
-        /// Method (default: the case's first method).
+        /// Print a commented parameter file for this case (its defaults; `--config` reads it).
+        #[arg(long, value_name = "CASE")]
+        toml: Option<String>,
+        /// With --toml: the method whose defaults to print (default: the case's first).
         #[arg(long, short)]
         method: Option<String>,
-        /// Set a parameter: key=value (repeatable; applied after --config).
-        #[arg(long = "set", short = 's', value_name = "KEY=VALUE")]
-        set: Vec<String>,
-        /// A TOML case file with `key = value` lines (optionally `case`, `method`).
-        #[arg(long)]
-        config: Option<PathBuf>,
-        /// Directory for the results (`<case>-<method>.h5` and `.xmf`).
-        #[arg(long, default_value = "out")]
-        out: PathBuf,
-        /// Do not write HDF5 results.
-        #[arg(long)]
-        no_output: bool,
-        /// Write the run's figures as JSON to this file.
-        #[arg(long)]
-        summary: Option<PathBuf>,
-        /// HDF5 backend: `pure` (default) or `hdf5-metno` (needs the cargo feature).
-        #[arg(long, default_value = "pure")]
-        backend: String,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
     },
+    /// Run a case.
+    Run(Box<RunArgs>),
+}
+
+#[derive(clap::Args)]
+struct RunArgs {
+    /// Case name (see `sph list`), or a scene file (`.toml`, see docs/user-guide.md).
+    case: String,
+    /// Method (default: the case's first method, or the case file's `method`).
+    #[arg(long, short)]
+    method: Option<String>,
+    /// Set a parameter: key=value (repeatable; applied after --config).
+    #[arg(long = "set", short = 's', value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// A TOML case file with `key = value` lines (optionally `case`, `method`).
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Directory for the results (`<case>-<method>.h5` and `.xmf`).
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+    /// Do not write HDF5 results.
+    #[arg(long)]
+    no_output: bool,
+    /// Write the run's figures as JSON to this file.
+    #[arg(long)]
+    summary: Option<PathBuf>,
+    /// HDF5 backend: `pure` (default) or `hdf5-metno` (needs the cargo feature).
+    #[arg(long, default_value = "pure")]
+    backend: String,
+    /// Worker threads, 1 to 1024 (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Memory the run may plan to use, GiB (default: 80 % of the memory available now).
+    #[arg(long, value_name = "GIB")]
+    max_memory: Option<f64>,
+    /// Run even if the estimated work exceeds 10^12 particle-steps (about a day).
+    #[arg(long)]
+    allow_long_run: bool,
+    /// Build the scene, check everything and print the estimates; run and write nothing.
+    #[arg(long)]
+    dry_run: bool,
+    /// When stderr is not a terminal: a progress line to stderr every this many seconds of
+    /// wall time (0: none). On a terminal a progress bar is drawn instead.
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    log_every: f64,
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::List { verbose } => {
-            list(verbose);
-            ExitCode::SUCCESS
-        }
-        Command::Run {
-            case,
+        Command::List {
+            toml: Some(case),
             method,
-            set,
-            config,
-            out,
-            no_output,
-            summary,
-            backend,
-            threads,
-        } => match run(
-            case, method, set, config, out, no_output, summary, backend, threads,
-        ) {
-            Ok(true) => ExitCode::SUCCESS,
-            Ok(false) => ExitCode::from(1),
+            ..
+        } => match template(&case, method.as_deref()) {
+            Ok(text) => match print_out(&text) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: writing the template: {e}");
+                    ExitCode::from(1)
+                }
+            },
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
+        Command::List { verbose, .. } => match print_out(&list(verbose)) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: writing the list: {e}");
+                ExitCode::from(1)
+            }
+        },
+        Command::Run(args) => match run(*args) {
+            Ok(code) => code,
             Err(e) => {
                 eprintln!("error: {e}");
                 ExitCode::from(2)
@@ -96,10 +141,58 @@ fn main() -> ExitCode {
     }
 }
 
-fn list(verbose: bool) {
+/// Writes `text` to stdout. A reader that closed the pipe early (`sph list | head -1`) is not
+/// an error: it has what it wanted.
+fn print_out(text: &str) -> std::io::Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => r,
+    }
+}
+
+/// A parameter file for `case` with `method`'s defaults, every key commented with its meaning
+/// and range: edit it and run `sph run <case> --config <file>`.
+fn template(case_name: &str, method: Option<&str>) -> Result<String, CaseError> {
+    use std::fmt::Write as _;
+    let case = find_case(case_name)?;
+    let method = resolve_method(case, method)?;
+    let info = case.info();
+    let params = case.params_for(method);
+    let mut s = String::new();
+    let _ = writeln!(s, "# {}: {}", info.name, info.description);
+    let _ = writeln!(
+        s,
+        "# Every parameter with the defaults of method `{method}` (methods: {}).",
+        info.methods.join(", ")
+    );
+    let _ = writeln!(
+        s,
+        "# Run: sph run {} --config <this file>
+",
+        info.name
+    );
+    let _ = writeln!(s, "case = \"{}\"\nmethod = \"{method}\"\n", info.name);
+    for p in params.specs() {
+        let value = match params.value(p.key) {
+            Some(Value::Text(t)) => format!("\"{t}\""),
+            Some(Value::Float(x)) => format!("{x:?}"),
+            Some(v) => v.to_string(),
+            None => continue,
+        };
+        let _ = writeln!(s, "# {} ({})", p.help, p.range.describe(p.key));
+        let _ = writeln!(s, "{} = {value}\n", p.key);
+    }
+    Ok(s)
+}
+
+fn list(verbose: bool) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
     for case in all_cases() {
         let info = case.info();
-        println!(
+        let _ = writeln!(
+            s,
             "{:<24} {:<38} {}",
             info.name,
             info.methods.join(","),
@@ -115,7 +208,7 @@ fn list(verbose: bool) {
             let value = |p: &sph_cases::params::Params, key: &str| p.value(key).map(show);
             for p in base.specs() {
                 let v = value(&base, p.key).unwrap_or_default();
-                println!("    {:<20} = {:<14} {}", p.key, v, p.help);
+                let _ = writeln!(s, "    {:<20} = {:<14} {}", p.key, v, p.help);
             }
             // Defaults that another method's paper sets differently.
             for m in info.methods.iter().skip(1) {
@@ -123,7 +216,8 @@ fn list(verbose: bool) {
                 for p in base.specs() {
                     let b = value(&other, p.key);
                     if value(&base, p.key) != b {
-                        println!(
+                        let _ = writeln!(
+                            s,
                             "    {:<20} = {:<14} with --method {m}",
                             p.key,
                             b.unwrap_or_default()
@@ -133,25 +227,75 @@ fn list(verbose: bool) {
             }
         }
     }
+    s
 }
 
-#[allow(clippy::too_many_arguments)]
-fn run(
-    case_name: String,
-    method: Option<String>,
-    set: Vec<String>,
-    config: Option<PathBuf>,
-    out: PathBuf,
-    no_output: bool,
-    summary_path: Option<PathBuf>,
-    backend: String,
-    threads: Option<usize>,
-) -> Result<bool, CaseError> {
-    let case = find_case(&case_name)?;
-    let mut method = method;
+/// SIGINT and SIGTERM set the returned flag to their number; the run stops after its current
+/// step. A second signal takes the default action (the process ends at once). signal-hook
+/// rather than ctrlc: it tells the signals apart (exit 130 vs 143) and offers that
+/// second-signal escape without a handler thread.
+#[cfg(unix)]
+fn install_signal_handlers() -> Result<Interrupt, CaseError> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    use signal_hook::flag;
+    let which: Interrupt = Arc::new(AtomicUsize::new(0));
+    let seen = Arc::new(AtomicBool::new(false));
+    let fail = |e: std::io::Error| CaseError::Config(format!("installing signal handlers: {e}"));
+    for sig in [SIGINT, SIGTERM] {
+        // Order matters: the check for an earlier signal runs before this one is recorded.
+        flag::register_conditional_default(sig, Arc::clone(&seen)).map_err(fail)?;
+        flag::register(sig, Arc::clone(&seen)).map_err(fail)?;
+        flag::register_usize(sig, Arc::clone(&which), sig as usize).map_err(fail)?;
+    }
+    Ok(which)
+}
+
+/// Elsewhere the signals keep their default; the flag is never set.
+#[cfg(not(unix))]
+fn install_signal_handlers() -> Result<Interrupt, CaseError> {
+    Ok(Arc::new(AtomicUsize::new(0)))
+}
+
+/// What `sph run` runs: a built-in case with its parameters, or a scene file.
+enum Job {
+    Case {
+        case: &'static dyn sph_cases::Case,
+        method: &'static str,
+        params: sph_cases::Params,
+    },
+    Scene(Box<Scene>),
+}
+
+/// Whether the argument names a scene file rather than a case.
+fn is_scene_file(arg: &str) -> bool {
+    arg.ends_with(".toml") || std::path::Path::new(arg).is_file()
+}
+
+/// A scene file: `--method`, `--set` and `--config` do not apply (the file holds everything).
+fn scene_job(a: &RunArgs) -> Result<Job, CaseError> {
+    for (flag, given) in [
+        ("--method", a.method.is_some()),
+        ("--set", !a.set.is_empty()),
+        ("--config", a.config.is_some()),
+    ] {
+        if given {
+            return Err(CaseError::Config(format!(
+                "{flag} does not apply to a scene file ({}): edit the file",
+                a.case
+            )));
+        }
+    }
+    Scene::from_file(&a.case)
+        .map(|s| Job::Scene(Box::new(s)))
+        .map_err(|e| CaseError::Config(e.to_string()))
+}
+
+fn case_job(a: &RunArgs) -> Result<Job, CaseError> {
+    let case = find_case(&a.case)?;
+    let mut method = a.method.clone();
     // The method decides the defaults (`Case::params_for`), so it is resolved before the
     // configuration file and the assignments are applied on top of its defaults.
-    let toml = match &config {
+    let toml = match &a.config {
         Some(path) => {
             let text = std::fs::read_to_string(path).map_err(|e| CaseError::Io {
                 path: path.display().to_string(),
@@ -161,15 +305,23 @@ fn run(
                 .params()
                 .apply_toml(&text, &path.display().to_string())?;
             if let Some(c) = extras.case {
-                if c != case_name {
+                if c != a.case {
                     return Err(CaseError::Config(format!(
-                        "{}: names case `{c}` but `{case_name}` was asked for",
-                        path.display()
+                        "{}: names case `{c}` but `{}` was asked for",
+                        path.display(),
+                        a.case
                     )));
                 }
             }
-            if method.is_none() {
-                method = extras.method;
+            match (&method, extras.method) {
+                (Some(m), Some(t)) if *m != t => {
+                    return Err(CaseError::Config(format!(
+                        "{}: method = \"{t}\" contradicts --method {m}; drop one of them",
+                        path.display()
+                    )))
+                }
+                (None, t) => method = t,
+                _ => {}
             }
             Some((text, path.display().to_string()))
         }
@@ -180,21 +332,52 @@ fn run(
     if let Some((text, name)) = &toml {
         params.apply_toml(text, name)?;
     }
-    for a in &set {
-        params.apply_assignment(a)?;
+    for s in &a.set {
+        params.apply_assignment(s)?;
     }
-    let backend: Backend = backend.parse()?;
+    Ok(Job::Case {
+        case,
+        method,
+        params,
+    })
+}
+
+fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
+    let job = if is_scene_file(&a.case) {
+        scene_job(&a)?
+    } else {
+        case_job(&a)?
+    };
+    let backend: Backend = a.backend.parse()?;
     if !backend.is_available() {
         return Err(CaseError::Config(format!(
             "backend `{backend}` needs sph built with `--features hdf5-metno`"
         )));
     }
-    if let Some(n) = threads {
-        if n == 0 {
+    let budget = match a.max_memory {
+        Some(gib) if gib.is_finite() && gib > 0.0 && gib <= 1e9 => Budget::with_limit(
+            (gib * (1u64 << 30) as f64) as u64,
+            format!("--max-memory {gib}"),
+        ),
+        Some(gib) => {
+            return Err(CaseError::InvalidValue {
+                key: "--max-memory".into(),
+                value: gib.to_string(),
+                allowed: "GiB, 0 < --max-memory <= 1e9".into(),
+            })
+        }
+        None => {
+            let b = Budget::from_available_memory();
+            let origin = format!("{}; --max-memory GIB overrides it", b.origin);
+            Budget { origin, ..b }
+        }
+    };
+    if let Some(n) = a.threads {
+        if !(1..=MAX_THREADS).contains(&n) {
             return Err(CaseError::InvalidValue {
                 key: "threads".into(),
-                value: "0".into(),
-                allowed: "at least 1".into(),
+                value: n.to_string(),
+                allowed: format!("1 <= threads <= {MAX_THREADS}"),
             });
         }
         rayon::ThreadPoolBuilder::new()
@@ -202,47 +385,151 @@ fn run(
             .build_global()
             .map_err(|e| CaseError::Config(format!("thread pool: {e}")))?;
     }
-    let options = RunOptions {
-        output: (!no_output).then(|| out.join(format!("{}-{}", case.info().name, method))),
-        backend,
-        progress: std::io::stderr().is_terminal(),
+    let (name, method) = match &job {
+        Job::Case { case, method, .. } => (case.info().name.to_string(), method.to_string()),
+        Job::Scene(scene) => (scene.name().to_string(), scene.method().to_string()),
     };
-    let (record, summary) = case.run(method, &params, &options)?;
-    if let Some(path) = &summary_path {
+    let results = (!a.no_output).then(|| a.out.join(format!("{name}-{method}")));
+    let mut inputs = Vec::new();
+    if let Job::Scene(_) = &job {
+        inputs.push(("the scene file".to_string(), PathBuf::from(&a.case)));
+    }
+    if let Some(c) = &a.config {
+        inputs.push(("--config".to_string(), c.clone()));
+    }
+    if let Ok(exe) = std::env::current_exe() {
+        inputs.push(("the sph program".to_string(), exe));
+    }
+    RunFiles {
+        results: results.clone(),
+        summary: a.summary.clone(),
+        inputs,
+    }
+    .check()?;
+    let options = RunOptions {
+        output: results,
+        backend,
+        progress: progress_display(std::io::stderr().is_terminal(), a.log_every)?,
+        allow_long_run: a.allow_long_run,
+        dry_run: a.dry_run,
+        interrupt: Some(install_signal_handlers()?),
+    };
+    let (record, summary) = budget::scoped(budget, || match &job {
+        Job::Case {
+            case,
+            method,
+            params,
+        } => case.run(method, params, &options),
+        Job::Scene(scene) => scene
+            .run(&options)
+            .map_err(|e| CaseError::Config(e.to_string())),
+    })?;
+    if let (Some(path), false) = (&a.summary, a.dry_run) {
         let text = serde_json::to_string_pretty(&Json::Object(summary.clone()))
             .expect("summary serialises");
-        write_atomically(path, &text)?;
+        if let Err(e) = write_summary(path, &text) {
+            // The run is done and its results are written: report, and fail the exit status.
+            eprintln!("error: writing the summary: {e}");
+            if record.failure.is_none() && record.interrupted.is_none() {
+                return Ok(ExitCode::from(1));
+            }
+        }
     }
+    let mut text = String::new();
     for (k, v) in &summary {
         match v {
             // Curves and histories: in the summary file and the HDF5 results, not the console.
-            Json::Array(_) | Json::Object(_) if k != "monitor" && v.to_string().len() > 160 => {
-                println!("{k:<28} (a curve or table: see --summary or /summary in the results)")
-            }
+            Json::Array(_) | Json::Object(_) if k != "monitor" && v.to_string().len() > 160 => text
+                .push_str(&format!(
+                    "{k:<28} (a curve or table: see --summary or /summary in the results)\n"
+                )),
             _ if k == "monitor" => {}
-            v => println!("{k:<28} {v}"),
+            v => text.push_str(&format!("{k:<28} {v}\n")),
         }
     }
     if let Some(f) = &record.file {
-        println!("{:<28} {}", "results", f.display());
+        text.push_str(&format!("{:<28} {}\n", "results", f.display()));
+    }
+    if let Err(e) = print_out(&text) {
+        eprintln!("error: writing to stdout: {e}");
     }
     if let Some(e) = &record.failure {
         eprintln!("error: the run stopped early: {e}");
-        return Ok(false);
+        return Ok(ExitCode::from(1));
     }
-    Ok(true)
+    if let Some(sig) = record.interrupted {
+        eprintln!(
+            "stopped: {}; the results hold everything up to there",
+            record.status()
+        );
+        return Ok(ExitCode::from((128 + sig).min(255) as u8));
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
-fn write_atomically(path: &PathBuf, text: &str) -> Result<(), CaseError> {
-    let io = |e| CaseError::Io {
-        path: path.display().to_string(),
-        source: e,
-    };
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(io)?;
+/// The progress display: a bar on a terminal; otherwise a line on stderr every `log_every`
+/// seconds of wall time (and at the end), so a batch job's log shows where the run is.
+fn progress_display(terminal: bool, log_every: f64) -> Result<Option<ProgressSink>, CaseError> {
+    if !(log_every.is_finite() && log_every >= 0.0) {
+        return Err(CaseError::InvalidValue {
+            key: "--log-every".into(),
+            value: log_every.to_string(),
+            allowed: "seconds >= 0 (0: no log lines)".into(),
+        });
     }
-    let mut tmp = path.as_os_str().to_os_string();
-    tmp.push(".tmp");
-    std::fs::write(&tmp, text).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(io)
+    const SCALE: f64 = 1e6;
+    if terminal {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr_with_hz(4));
+        bar.set_style(
+            ProgressStyle::with_template("{bar:30} t = {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        return Ok(Some(ProgressSink::new(move |p: &Progress| {
+            if p.finished {
+                bar.finish_and_clear();
+                return;
+            }
+            bar.set_length((p.end_time * SCALE) as u64);
+            bar.set_position((p.time * SCALE) as u64);
+            bar.set_message(format!(
+                "{:.4} / {:.4} s  {:.3e} particle-steps/s",
+                p.time,
+                p.end_time,
+                p.particle_steps_per_second()
+            ));
+        })));
+    }
+    if log_every == 0.0 {
+        return Ok(None);
+    }
+    let last = std::sync::Mutex::new(0.0f64);
+    Ok(Some(ProgressSink::new(move |p: &Progress| {
+        let mut last = last.lock().unwrap_or_else(|e| e.into_inner());
+        // A line every `log_every` seconds, and a last one at the end of a run that printed
+        // any (a short run prints none).
+        let due = if p.finished {
+            *last > 0.0
+        } else {
+            p.wall_seconds - *last >= log_every
+        };
+        if !due {
+            return;
+        }
+        *last = p.wall_seconds;
+        let done = (p.time / p.end_time).clamp(0.0, 1.0);
+        let eta = if done > 0.0 {
+            format!("{:.0} s", p.wall_seconds * (1.0 - done) / done)
+        } else {
+            "–".into()
+        };
+        eprintln!(
+            "t = {:.6e} / {:.6e} s ({:.1} %), {} steps, {:.3e} particle-steps/s, {:.0} s elapsed, ETA {eta}",
+            p.time,
+            p.end_time,
+            100.0 * done,
+            p.steps,
+            p.particle_steps_per_second(),
+            p.wall_seconds
+        );
+    })))
 }

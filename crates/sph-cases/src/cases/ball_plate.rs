@@ -211,7 +211,7 @@ where
         .map(|i| if i < nb { down * v0 } else { D::zero() })
         .collect();
     let volumes = set.volumes().to_vec();
-    let body = sph_ul::UlBody::<D> {
+    let body = sph_core::Body::<D> {
         positions: set.positions().to_vec(),
         volumes: volumes.clone(),
         dp,

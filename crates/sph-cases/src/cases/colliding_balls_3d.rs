@@ -141,7 +141,7 @@ impl Case for CollidingBalls3d {
             .map(|i| DVec3::new(if i < nl { v0 } else { -v0 }, 0.0, 0.0))
             .collect();
         let volumes = set.volumes().to_vec();
-        let body = sph_ul::UlBody::<D3> {
+        let body = sph_core::Body::<D3> {
             positions: set.positions().to_vec(),
             volumes: volumes.clone(),
             dp,

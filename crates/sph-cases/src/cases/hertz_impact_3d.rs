@@ -77,7 +77,7 @@ fn reduced(
 
 /// Hertz's impact of an elastic sphere (radius `R`, mass `m`, Young's modulus `E`, Poisson's
 /// ratio `ν`) moving at `v` toward `target` (Johnson, *Contact Mechanics*, 1985, §11.4;
-/// METHODS.md "Contact, rigid tools and impacts"), valid for `v ≪ c0` (quasi-static contact):
+/// docs/methods.md "Contact, rigid tools and impacts"), valid for `v ≪ c0` (quasi-static contact):
 ///
 /// `t_c = 2.87 (m*² / (R* E*² v_rel))^(1/5)`, `δ_max = (15 m* v_rel² / (16 E* √R*))^(2/5)`,
 /// `F_max = (4/3) E* √R* δ_max^(3/2)`,
@@ -276,7 +276,7 @@ impl Case for HertzImpact3d {
             _ => theory.contact_time / 400.0,
         };
         let volumes = set.volumes().to_vec();
-        let body = sph_ul::UlBody::<D3> {
+        let body = sph_core::Body::<D3> {
             positions: set.positions().to_vec(),
             volumes: volumes.clone(),
             dp,

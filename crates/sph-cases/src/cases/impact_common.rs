@@ -19,7 +19,7 @@ pub fn contact_param() -> Param {
         "contact_stiffness",
         1.0,
         Range::Positive,
-        "scale κ of the UL contact pressure between bodies, p_c = κ c0² ρ_c (1: METHODS.md)",
+        "scale κ of the UL contact pressure between bodies, p_c = κ c0² ρ_c (1: docs/methods.md)",
     )
 }
 

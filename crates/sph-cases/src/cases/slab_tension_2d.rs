@@ -1,4 +1,4 @@
-//! CASES.md 15: a slab in pure tension (MPS paper §IV.B, Fig. 2).
+//! Benchmark case 15: a slab in pure tension (MPS paper §IV.B, Fig. 2).
 //!
 //! Slab 3 cm × 1 cm (centred on the origin), SVK with `K = 3.25e6`, `μ = 7.15e5`, `ρ = 1000`.
 //! The particles in the end strips 0.2 cm wide are moved with the prescribed velocity
@@ -25,9 +25,9 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Field, Solver, TimeFunction, D2};
 use sph_materials::{ElasticConstants, MaterialKind};
-use sph_mps::MpsBody;
 
 /// The slab in tension.
 pub struct SlabTension2d;
@@ -94,6 +94,18 @@ impl Case for SlabTension2d {
         let shape = Aabb::<D2>::new(lo, -lo)?;
         let mut set = ParticleSet::fill(&Lattice::<D2>::new(dp, lo)?, &shape)?;
         let w = p.f64("strip_width");
+        // Each strip must hold a column of particles and leave the slab between them free.
+        if !(w > 0.5 * dp && w < 0.5 * l) {
+            return Err(CaseError::InvalidValue {
+                key: "strip_width".into(),
+                value: w.to_string(),
+                allowed: format!(
+                    "dp/2 = {:?} < strip_width < length/2 = {:?}",
+                    0.5 * dp,
+                    0.5 * l
+                ),
+            });
+        }
         set.tag_where("left", |_, x| x.x < -0.5 * l + w)?;
         set.tag_where("right", |_, x| x.x > 0.5 * l - w)?;
         set.tag_where("middle", |_, x| x.x.abs() < l / 6.0)?;
@@ -126,11 +138,12 @@ impl Case for SlabTension2d {
             },
             n,
         )?;
-        let body = MpsBody::<D2> {
+        let body = Body::<D2> {
             positions: set.positions().to_vec(),
             volumes: set.volumes().to_vec(),
             dp,
             velocities: Vec::new(),
+            densities: Vec::new(),
         };
         run_mps(
             "slab-tension-2d",

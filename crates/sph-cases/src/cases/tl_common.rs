@@ -5,9 +5,10 @@ use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::{drive, RunOptions, RunRecord, Schedule};
 use serde_json::{json, Map, Value as Json};
+use sph_core::Body;
 use sph_core::{Dim, Solver};
 use sph_materials::{ElasticConstants, MaterialKind, MaterialModel};
-use sph_tl::{Shear, TlBody, TlParams, TlSolver};
+use sph_tl::{Shear, TlParams, TlSolver};
 
 /// The TL methods.
 pub const TL_METHODS: &[&str] = &["tl-hf", "tl", "tl-gm"];
@@ -135,6 +136,10 @@ pub fn schedule(p: &Params, end_time: f64) -> Schedule {
         } else {
             end_time / 200.0
         },
+        probe_interval: match p.value("probe_interval") {
+            Some(crate::params::Value::Float(x)) => *x,
+            _ => 0.0,
+        },
     }
 }
 
@@ -153,7 +158,7 @@ pub fn run_tl<D: Dim>(
     case: &str,
     method: &str,
     p: &Params,
-    body: TlBody<D>,
+    body: Body<D>,
     material: MaterialModel,
     attach: impl FnOnce(TlSolver<D, MaterialModel>) -> Result<TlSolver<D, MaterialModel>, CaseError>,
     end_time: f64,
@@ -171,12 +176,12 @@ where
         "guarded_particles".into(),
         json!(solver.guarded_particles()),
     );
-    drive::<D>(
+    Ok(drive::<D>(
         &mut solver,
         meta,
         schedule(p, end_time),
         TL_FIELDS,
         options,
         summarise,
-    )
+    )?)
 }

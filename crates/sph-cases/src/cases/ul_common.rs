@@ -6,9 +6,10 @@ use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::{drive, RunOptions, RunRecord};
 use serde_json::{json, Map, Value as Json};
+use sph_core::Body;
 use sph_core::{Dim, Solver};
 use sph_materials::ElasticConstants;
-use sph_ul::{LaplacianForm, RiemannScheme, Shear, Stepping, UlBody, UlParams, UlSolver};
+use sph_ul::{LaplacianForm, RiemannScheme, Shear, Stepping, UlParams, UlSolver};
 
 /// The UL methods.
 pub const UL_METHODS: &[&str] = &["ul-enog", "ul-og", "ul-oas"];
@@ -50,13 +51,13 @@ pub fn ul_params() -> Vec<Param> {
         Param::float(
             "ul_cfl_acoustic",
             0.4,
-            Range::Positive,
+            Range::Open(0.0, 1.0),
             "CFL_ac of eq 22: Δt_ac = CFL_ac h/(c0 + |v|max)",
         ),
         Param::float(
             "ul_cfl_advection",
             0.2,
-            Range::Positive,
+            Range::Open(0.0, 1.0),
             "CFL_ad of eq 21: Δt_ad = CFL_ad h/|v|max",
         ),
         Param::bool(
@@ -69,7 +70,7 @@ pub fn ul_params() -> Vec<Param> {
             "refresh_kernel_data",
             true,
             "recompute e_ij, r_ij, W, W′ from the current positions in every acoustic sub-step \
-             (the list and B stay those of the rebuild); false = METHODS.md's frozen data: \
+             (the list and B stay those of the rebuild); false = docs/methods.md's frozen data: \
              1.4–1.6× faster per sub-step but the plate softens secularly (period +7 % in 3 s)",
         ),
         Param::bool(
@@ -169,7 +170,7 @@ pub fn run_ul<D: Dim>(
     case: &str,
     method: &str,
     p: &Params,
-    body: UlBody<D>,
+    body: Body<D>,
     constants: ElasticConstants,
     attach: impl FnOnce(UlSolver<D>) -> Result<UlSolver<D>, CaseError>,
     end_time: f64,
@@ -201,6 +202,9 @@ pub fn run_ul<D: Dim>(
         options,
         summarise,
     )?;
+    if options.dry_run {
+        return Ok((record, summary));
+    }
     // Throughput counts force evaluations: with dual stepping one `step` is an advection step
     // made of several acoustic sub-steps, so `steps` alone would flatter single stepping.
     let acoustic = solver.acoustic_step_count();

@@ -1,0 +1,1268 @@
+//! Issue 14's reproductions against the `sph` command, at small sizes, with the behaviour each
+//! must now have: the exit status, one line on stderr, no file written or replaced, no panic.
+//! Every input class below is one row of `docs/reliability.md`, which
+//! [`reliability_doc_is_current`] renders from the same tables the tests run; regenerate it with
+//!
+//! ```text
+//! SPH_UPDATE_DOCS=1 cargo test -p sph-cases --test robustness reliability_doc_is_current
+//! ```
+//!
+//! Waits for a background run poll for its files with a generous cap (a hang guard, not a
+//! timing assertion).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+// ------------------------------------------------------------------------------------ helpers
+
+struct Run {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+}
+
+fn finished(out: Output) -> Run {
+    Run {
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into(),
+        stderr: String::from_utf8_lossy(&out.stderr).into(),
+    }
+}
+
+/// Runs `sph args` in `dir`.
+fn sph(dir: &Path, args: &[&str]) -> Run {
+    finished(
+        Command::new(env!("CARGO_BIN_EXE_sph"))
+            .args(args)
+            .current_dir(dir)
+            .output()
+            .expect("run sph"),
+    )
+}
+
+fn spawn(dir: &Path, args: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_sph"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn sph")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("sph-robust-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// What a directory holds (recursively): name → kind and content, to prove nothing changed.
+fn listing(dir: &Path) -> BTreeMap<String, String> {
+    let mut m = BTreeMap::new();
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return m;
+    };
+    for e in entries {
+        let e = e.unwrap();
+        let name = e.file_name().to_string_lossy().into_owned();
+        let t = std::fs::symlink_metadata(e.path()).unwrap().file_type();
+        let what = if t.is_symlink() {
+            format!("link {}", std::fs::read_link(e.path()).unwrap().display())
+        } else if t.is_dir() {
+            for (k, v) in listing(&e.path()) {
+                m.insert(format!("{name}/{k}"), v);
+            }
+            "dir".into()
+        } else if t.is_file() {
+            format!("file {:?}", std::fs::read(e.path()).unwrap())
+        } else {
+            "special".into()
+        };
+        m.insert(name, what);
+    }
+    m
+}
+
+/// Exit status 2, one line on stderr containing `needle`, nothing on stdout, no panic.
+fn assert_refused(r: &Run, needle: &str, what: &str) {
+    assert_eq!(r.code, Some(2), "{what}: {}", r.stderr);
+    assert!(!r.stderr.contains("panicked"), "{what}: {}", r.stderr);
+    assert_eq!(r.stderr.trim().lines().count(), 1, "{what}: {}", r.stderr);
+    assert!(
+        r.stderr.contains(needle),
+        "{what}: `{needle}` not in {}",
+        r.stderr
+    );
+    assert!(r.stdout.is_empty(), "{what}: {}", r.stdout);
+}
+
+/// Temporary or lock files anywhere under `dir`.
+fn leftovers(dir: &Path) -> Vec<String> {
+    listing(dir)
+        .into_keys()
+        .filter(|n| n.ends_with(".tmp") || n.ends_with(".lock"))
+        .collect()
+}
+
+/// Polls until `path` exists and holds text (a hang guard of 120 s, not a timing assertion).
+fn wait_for_text(path: &Path) -> String {
+    let start = Instant::now();
+    loop {
+        if let Ok(t) = std::fs::read_to_string(path) {
+            if !t.trim().is_empty() {
+                return t;
+            }
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "{} never appeared",
+            path.display()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Polls until the run `child` has started writing into `out` (its own temporary file exists,
+/// so it holds the results' lock): the writer takes the lock first and releases it only when
+/// the file is complete.
+fn wait_until_writing(out: &Path, child: &Child) {
+    let mark = format!(".{}-", child.id());
+    let start = Instant::now();
+    while !listing(out)
+        .keys()
+        .any(|n| n.ends_with(".tmp") && n.contains(&mark))
+    {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the run never started writing"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[cfg(unix)]
+fn signal(child: &Child, sig: &str) {
+    let ok = Command::new("kill")
+        .args([&format!("-{sig}"), &child.id().to_string()])
+        .status()
+        .expect("kill")
+        .success();
+    assert!(ok, "kill -{sig}");
+}
+
+/// A small TL plate run that takes a second or so (or, with a long end time, until stopped).
+const PLATE: &[&str] = &[
+    "run",
+    "oscillating-plate-2d",
+    "--method",
+    "tl",
+    "--set",
+    "resolution=4",
+];
+
+fn with<'a>(base: &[&'a str], more: &[&'a str]) -> Vec<&'a str> {
+    base.iter().chain(more).copied().collect()
+}
+
+// -------------------------------------------------------------- the classes of docs/reliability.md
+
+/// One row of the table in `docs/reliability.md`.
+struct Class {
+    /// The issue's item.
+    item: &'static str,
+    /// What was tried.
+    class: &'static str,
+    /// How many inputs.
+    count: fn() -> usize,
+    /// What happens now (asserted by the test named).
+    outcome: &'static str,
+    /// The test that runs it.
+    test: &'static str,
+}
+
+/// `--summary` destinations that must be refused: (what, the argument, the expected words).
+/// Paths are relative to the scratch directory, which holds `cfg.toml`, `fifo`, `link.json`
+/// (→ `old.json`, an earlier summary), `notes.txt` and the directory `sub`.
+const SUMMARY_REFUSED: &[(&str, &str, &str)] = &[
+    ("a device", "/dev/full", "it is a device"),
+    ("another device", "/dev/null", "it is a device"),
+    ("a FIFO", "fifo", "it is a FIFO"),
+    ("a symbolic link", "link.json", "it is a symbolic link"),
+    (
+        "the --config file",
+        "cfg.toml",
+        "an input of this run (--config)",
+    ),
+    (
+        "the results file",
+        "out/oscillating-plate-2d-tl.h5",
+        "the results of this run",
+    ),
+    (
+        "the sidecar",
+        "out/oscillating-plate-2d-tl.xmf",
+        "the results of this run",
+    ),
+    ("`.`", ".", "names a directory"),
+    ("a trailing slash", "new/", "names a directory"),
+    ("a directory", "sub", "names a directory"),
+    (
+        "a file that is no summary",
+        "notes.txt",
+        "is not an sph summary",
+    ),
+    (
+        "an unwritable place",
+        "/proc/sph-summary.json",
+        "cannot write",
+    ),
+    (
+        "below a regular file",
+        "notes.txt/s.json",
+        "is not a directory",
+    ),
+];
+
+/// Result destinations that must be refused: (what, how the scratch directory is prepared,
+/// the expected words). The run writes `out/oscillating-plate-2d-tl.{h5,xmf}`.
+const RESULTS_REFUSED: &[(&str, &str, &str)] = &[
+    ("--out is a file", "out-file", "is not a directory"),
+    ("--out is unwritable", "out-proc", "cannot write"),
+    (
+        "the .h5 is not a results file",
+        "h5-text",
+        "not an sph-solids results file",
+    ),
+    ("the .h5 is a symbolic link", "h5-link", "symbolic link"),
+    ("the .h5 is a FIFO", "h5-fifo", "a FIFO"),
+    ("the .xmf is a directory", "xmf-dir", "a directory"),
+];
+
+/// Particle counts beyond the memory budget: (what, arguments, expected words).
+const TOO_LARGE: &[(&str, &[&str], &str)] = &[
+    (
+        "ring, outer_radius = 1e300",
+        &[
+            "run",
+            "pressurised-ring-2d",
+            "--set",
+            "dp=0.5",
+            "--set",
+            "outer_radius=1e300",
+        ],
+        "annulus_polar at dp = 0.5 would generate ≈ ∞ particles",
+    ),
+    (
+        "ring, dp = 1e-6",
+        &["run", "pressurised-ring-2d", "--set", "dp=1e-6"],
+        "annulus_polar at dp = 1e-6 would generate",
+    ),
+    (
+        "ring, outer_radius = 1e6",
+        &["run", "pressurised-ring-2d", "--set", "outer_radius=1e6"],
+        "annulus_polar",
+    ),
+    (
+        "two rings, dp = 1e-7",
+        &["run", "colliding-rings-2d", "--set", "dp=1e-7"],
+        "annulus_polar at dp = 1e-7",
+    ),
+    (
+        "column, resolution = 200 (46M particles) in 1 GiB",
+        &[
+            "run",
+            "bending-column-3d",
+            "--set",
+            "resolution=200",
+            "--max-memory",
+            "1",
+        ],
+        "the lattice fill at dp = 0.005 would generate",
+    ),
+    (
+        "UL 3D plate, resolution = 12 in 0.1 GiB",
+        &[
+            "run",
+            "oscillating-plate-3d",
+            "--set",
+            "resolution=12",
+            "--max-memory",
+            "0.1",
+        ],
+        "more than the limit of 102 MiB (--max-memory 0.1)",
+    ),
+    (
+        "--max-memory 0",
+        &["run", "oscillating-plate-2d", "--max-memory", "0"],
+        "invalid --max-memory = 0",
+    ),
+    (
+        "--max-memory -1",
+        &["run", "oscillating-plate-2d", "--max-memory=-1"],
+        "invalid --max-memory = -1",
+    ),
+    (
+        "--max-memory nan",
+        &["run", "oscillating-plate-2d", "--max-memory", "nan"],
+        "invalid --max-memory = NaN",
+    ),
+    (
+        "--max-memory inf",
+        &["run", "oscillating-plate-2d", "--max-memory", "inf"],
+        "invalid --max-memory = inf",
+    ),
+];
+
+/// Schedules, end times, threads and CFL numbers that must be refused before the run.
+const BAD_SCHEDULES: &[(&str, &[&str], &str)] = &[
+    (
+        "snapshot_interval = 1e-300",
+        &["--set", "snapshot_interval=1e-300"],
+        "invalid snapshot_interval = 1e-300: gives 1.00e300 snapshots",
+    ),
+    (
+        "snapshot_interval = 1e-9",
+        &["--set", "snapshot_interval=1e-9"],
+        "more than 100,000",
+    ),
+    (
+        "monitor_interval = 1e-300",
+        &["--set", "monitor_interval=1e-300"],
+        "invalid monitor_interval = 1e-300",
+    ),
+    (
+        "end_time = 1e300",
+        &["--set", "end_time=1e300"],
+        "no longer resolves the step",
+    ),
+    (
+        "end_time = 1e8 (a year of steps)",
+        &["--set", "end_time=1e8"],
+        "pass --allow-long-run",
+    ),
+    ("--threads 0", &["--threads", "0"], "invalid threads = 0"),
+    (
+        "--threads 1025",
+        &["--threads", "1025"],
+        "1 <= threads <= 1024",
+    ),
+    (
+        "--threads 100000",
+        &["--threads", "100000"],
+        "invalid threads = 100000",
+    ),
+    (
+        "ul_cfl_acoustic = 1",
+        &["--method", "ul-enog", "--set", "ul_cfl_acoustic=1"],
+        "0 < ul_cfl_acoustic < 1",
+    ),
+    (
+        "ul_cfl_acoustic = 5",
+        &["--method", "ul-enog", "--set", "ul_cfl_acoustic=5"],
+        "0 < ul_cfl_acoustic < 1",
+    ),
+];
+
+/// Inputs near those limits that are accepted (checked with `--dry-run`).
+const GOOD_SCHEDULES: &[(&str, &[&str])] = &[
+    (
+        "end_time = 1e8 with --allow-long-run (and probes every 1e5 s)",
+        &[
+            "--set",
+            "end_time=1e8",
+            "--allow-long-run",
+            "--set",
+            "probe_interval=1e5",
+        ],
+    ),
+    (
+        "probe_interval = 1e-300 (at most a sample per step)",
+        &["--set", "probe_interval=1e-300"],
+    ),
+    ("--threads 1024", &["--threads", "1024"]),
+];
+
+/// Values that were silently accepted.
+const ABSURD_VALUES: &[(&str, &[&str], &str)] = &[
+    (
+        "density = 1e300",
+        &["run", "oscillating-plate-2d", "--set", "density=1e300"],
+        "invalid density = 1e300: allowed range is 0.001 <= density <= 1000000",
+    ),
+    (
+        "youngs_modulus = 1e-300",
+        &[
+            "run",
+            "static-cantilever-2d",
+            "--set",
+            "youngs_modulus=1e-300",
+        ],
+        "invalid youngs_modulus = 1e-300",
+    ),
+    (
+        "bulk_modulus = 1e300",
+        &["run", "colliding-rings-2d", "--set", "bulk_modulus=1e300"],
+        "invalid bulk_modulus = 1e300",
+    ),
+    (
+        "c1 = 1e-300",
+        &["run", "pressurised-ring-2d", "--set", "c1=1e-300"],
+        "invalid c1 = 1e-300",
+    ),
+    (
+        "slab strip_width = 0.02, wider than half the slab",
+        &[
+            "run",
+            "slab-tension-2d",
+            "--set",
+            "resolution=10",
+            "--set",
+            "strip_width=0.02",
+        ],
+        "strip_width < length/2 = 0.015",
+    ),
+    (
+        "slab strip_width = 1e-6, narrower than half a spacing",
+        &[
+            "run",
+            "slab-tension-2d",
+            "--set",
+            "resolution=10",
+            "--set",
+            "strip_width=1e-6",
+        ],
+        "dp/2 = 0.0005 < strip_width",
+    ),
+    (
+        "--method tl-hf with the TOML's method = \"tl\"",
+        &[
+            "run",
+            "oscillating-plate-2d",
+            "--method",
+            "tl-hf",
+            "--config",
+            "method.toml",
+        ],
+        "method = \"tl\" contradicts --method tl-hf",
+    ),
+];
+
+/// Runs that blow up: (what, arguments after `run`, expected words).
+const BLOW_UPS: &[(&str, &[&str], &str)] = &[
+    (
+        "TL (linear-elastic plate thrown at 50 c0)",
+        &["oscillating-plate-2d", "--method", "tl", "--set", "vf=50"],
+        "inverted (J = ",
+    ),
+    (
+        "TL-HF (plate thrown at 50 c0)",
+        &[
+            "oscillating-plate-2d",
+            "--method",
+            "tl-hf",
+            "--set",
+            "vf=50",
+        ],
+        "inverted (J = ",
+    ),
+    (
+        "UL-ENOG (plate thrown at 50 c0)",
+        &[
+            "oscillating-plate-2d",
+            "--method",
+            "ul-enog",
+            "--set",
+            "vf=50",
+        ],
+        "",
+    ),
+    (
+        "MPS (slab strips pulled at 1e9 m/s²)",
+        &["slab-tension-2d", "--set", "acceleration=1e9"],
+        "inverted (J = ",
+    ),
+];
+
+/// The `sph` invocations whose stdout is closed before they write.
+const CLOSED_PIPES: &[(&str, &[&str])] = &[
+    ("sph list --verbose | head -1", &["list", "--verbose"]),
+    ("sph list | head -1", &["list"]),
+    (
+        "sph run … --dry-run | head -1",
+        &["run", "oscillating-plate-2d", "--dry-run"],
+    ),
+];
+
+/// Malformed values for every key of every case: non-numbers, non-finite numbers and words
+/// outside a choice.
+fn malformed_inputs() -> Vec<(String, String, String)> {
+    let mut v = Vec::new();
+    for case in sph_cases::all_cases() {
+        let p = case.params();
+        for spec in p.specs() {
+            let bad: &[&str] = match spec.default {
+                sph_cases::Value::Float(_) => &["nan", "inf", "abc"],
+                sph_cases::Value::Int(_) => &["2.5", "abc", "99999999999999999999"],
+                sph_cases::Value::Bool(_) => &["maybe"],
+                sph_cases::Value::Text(_) => &["nonsense"],
+            };
+            for b in bad {
+                v.push((
+                    case.info().name.to_string(),
+                    spec.key.to_string(),
+                    b.to_string(),
+                ));
+            }
+        }
+    }
+    v
+}
+
+/// Extreme finite values for every numeric key of every case, with one method of each family
+/// (TL, UL, MPS) the case runs (the variants of a family share their set-up code).
+fn extreme_inputs() -> Vec<(String, String, String, String)> {
+    let mut v = Vec::new();
+    for case in sph_cases::all_cases() {
+        let mut families = Vec::new();
+        for &m in case.info().methods {
+            let family = m.split('-').next().unwrap_or(m);
+            if families.contains(&family) {
+                continue;
+            }
+            families.push(family);
+            let p = case.params_for(m);
+            for spec in p.specs() {
+                if !matches!(
+                    spec.default,
+                    sph_cases::Value::Float(_) | sph_cases::Value::Int(_)
+                ) {
+                    continue;
+                }
+                for x in ["1e300", "1e-300", "0", "-1"] {
+                    v.push((
+                        case.info().name.to_string(),
+                        m.to_string(),
+                        spec.key.to_string(),
+                        x.to_string(),
+                    ));
+                }
+            }
+        }
+    }
+    v
+}
+
+const CLASSES: &[Class] = &[
+    Class {
+        item: "1",
+        class: "`--summary` onto a device, FIFO, symbolic link, the `--config` file, the \
+                results or sidecar, a directory (`.`, `dir/`, `dir`), a file that is no \
+                summary, an unwritable place, a path below a file",
+        count: || SUMMARY_REFUSED.len(),
+        outcome: "rc 2 before the run, one line naming `--summary` and why; the target and \
+                  the directory unchanged, no results written",
+        test: "summary_destinations_are_refused_before_the_run",
+    },
+    Class {
+        item: "1",
+        class: "`--summary` onto an earlier summary, or a new file in a directory to create",
+        count: || 2,
+        outcome: "rc 0; written through a temporary file of its own, renamed into place",
+        test: "summary_destinations_are_refused_before_the_run",
+    },
+    Class {
+        item: "1",
+        class: "results where `--out` is a file or unwritable, or the `.h5` is not a results \
+                file, a link or a FIFO, or the `.xmf` a directory",
+        count: || RESULTS_REFUSED.len(),
+        outcome: "rc 2 before the run, one line; nothing written or replaced",
+        test: "results_destinations_are_refused_before_the_run",
+    },
+    Class {
+        item: "2",
+        class: "a second run into the same results while the first runs",
+        count: || 1,
+        outcome: "rc 2 at once, `another run (process N) is writing these results`; the \
+                  first run's `.h5` and `.xmf` complete and consistent",
+        test: "a_second_run_into_the_same_results_fails_fast",
+    },
+    Class {
+        item: "2",
+        class: "a run into the results of a run killed with SIGKILL (stale lock and `.tmp`)",
+        count: || 1,
+        outcome: "rc 0; the stale lock is reused, the killed run's `.tmp` (a valid HDF5 file \
+                  with its snapshots) is left alone",
+        test: "a_run_after_a_killed_run_reuses_its_lock_and_keeps_its_partial_file",
+    },
+    Class {
+        item: "3, 4",
+        class: "particle counts beyond memory: ring `outer_radius = 1e300`, `dp = 1e-6`, \
+                `outer_radius = 1e6`; rings `dp = 1e-7`; column `resolution = 200`; UL 3D \
+                plate; bad `--max-memory`",
+        count: || TOO_LARGE.len(),
+        outcome: "rc 2 before allocating, one line with the estimated particles and memory \
+                  and the limit (or naming `--max-memory`); nothing written",
+        test: "particle_counts_beyond_the_memory_limit_are_refused_before_allocating",
+    },
+    Class {
+        item: "4",
+        class: "`--max-memory` raising and lowering the limit for the same column",
+        count: || 2,
+        outcome: "refused (rc 2) under 0.1 GiB, accepted (rc 0, `--dry-run`) under 1 GiB",
+        test: "particle_counts_beyond_the_memory_limit_are_refused_before_allocating",
+    },
+    Class {
+        item: "5",
+        class: "`snapshot_interval = 1e-300` or `1e-9`, `monitor_interval = 1e-300`, \
+                `end_time = 1e300` or `1e8`, `--threads` 0, 1025 or 100000, \
+                `ul_cfl_acoustic` 1 or 5",
+        count: || BAD_SCHEDULES.len(),
+        outcome: "rc 2 before the run, one line with the estimate and what is allowed",
+        test: "absurd_schedules_end_times_and_threads_are_refused",
+    },
+    Class {
+        item: "5",
+        class: "probes recording every step beyond the memory limit; snapshots beyond the \
+                free disk (estimate checked in-process)",
+        count: || 2,
+        outcome: "rc 2 naming `probe_interval`; the disk estimate names `snapshot_interval`",
+        test: "absurd_schedules_end_times_and_threads_are_refused",
+    },
+    Class {
+        item: "5",
+        class: "`end_time = 1e8` with `--allow-long-run`, `probe_interval = 1e-300`, \
+                `--threads 1024`",
+        count: || GOOD_SCHEDULES.len(),
+        outcome: "accepted (rc 0 with `--dry-run`)",
+        test: "absurd_schedules_end_times_and_threads_are_refused",
+    },
+    Class {
+        item: "6",
+        class: "SIGINT, SIGTERM during a run",
+        count: || 2,
+        outcome: "rc 130 / 143; the step finished, a last snapshot at the time reached, the \
+                  `.h5` completed with `status: interrupted at t = … (SIGINT)`, the summary \
+                  written, no `.tmp` or lock left",
+        test: "sigint_and_sigterm_finish_the_step_and_complete_the_results",
+    },
+    Class {
+        item: "7",
+        class: "`density = 1e300`, `youngs_modulus = 1e-300`, `bulk_modulus = 1e300`, \
+                `c1 = 1e-300`, slab `strip_width` wider than half the slab or narrower than \
+                half a spacing, `--method` contradicting the TOML's `method`",
+        count: || ABSURD_VALUES.len(),
+        outcome: "rc 2, one line naming the key and its allowed range",
+        test: "silently_accepted_values_are_refused",
+    },
+    Class {
+        item: "8",
+        class: "runs that blow up: TL, TL-HF, UL-ENOG (plates thrown at 50 c0), MPS (slab \
+                pulled at 1e9 m/s²)",
+        count: || BLOW_UPS.len(),
+        outcome: "rc 1, one line `the run stopped early: …` (inverted particle, collapsed \
+                  step, lost neighbours); the `.h5` completed with everything up to the last \
+                  good step and `status: failed: …`, the summary written",
+        test: "blow_ups_stop_with_a_diagnostic_and_keep_the_results",
+    },
+    Class {
+        item: "9",
+        class: "stdout closed before `sph` writes (`sph list --verbose \\| head -1`, `sph \
+                list`, `sph run --dry-run`)",
+        count: || CLOSED_PIPES.len(),
+        outcome: "rc 0, no panic, nothing on stderr",
+        test: "a_closed_stdout_is_not_an_error",
+    },
+    Class {
+        item: "—",
+        class: "malformed values for every key of every case (`nan`, `inf`, `abc` for \
+                numbers; `2.5`, `abc`, an overflowing integer for integers; a wrong word for \
+                switches and choices)",
+        count: || malformed_inputs().len(),
+        outcome: "rc 2, one line naming the key; nothing written",
+        test: "malformed_values_of_every_key_are_refused",
+    },
+    Class {
+        item: "—",
+        class: "`1e300`, `1e-300`, `0`, `-1` for every numeric key of every case, with one \
+                method of each family it runs (`--dry-run --max-memory 1`)",
+        count: || extreme_inputs().len(),
+        outcome: "rc 0 (accepted) or rc 2 with one line; never a panic, abort or hang; \
+                  nothing written",
+        test: "extreme_values_of_every_key_never_crash",
+    },
+];
+
+// --------------------------------------------------------------------------------- the tests
+
+/// Item 1: every refused `--summary` destination is refused before the run, with one line,
+/// and leaves the directory (and the device, FIFO or link) exactly as it was; an earlier
+/// summary and a new file are written.
+#[test]
+#[cfg(unix)]
+fn summary_destinations_are_refused_before_the_run() {
+    let dir = scratch("summary");
+    std::fs::write(dir.join("cfg.toml"), "resolution = 4\nend_time = 0.005\n").unwrap();
+    std::fs::write(
+        dir.join("old.json"),
+        "{\"case\": \"x\", \"status\": \"completed\"}",
+    )
+    .unwrap();
+    std::fs::write(dir.join("notes.txt"), "my notes").unwrap();
+    std::fs::create_dir(dir.join("sub")).unwrap();
+    std::os::unix::fs::symlink("old.json", dir.join("link.json")).unwrap();
+    assert!(Command::new("mkfifo")
+        .arg(dir.join("fifo"))
+        .status()
+        .unwrap()
+        .success());
+    let before = listing(&dir);
+    for &(what, path, needle) in SUMMARY_REFUSED {
+        let r = sph(
+            &dir,
+            &with(
+                PLATE,
+                &["--config", "cfg.toml", "--out", "out", "--summary", path],
+            ),
+        );
+        assert_refused(&r, needle, what);
+        assert!(r.stderr.contains("--summary"), "{what}: {}", r.stderr);
+        assert_eq!(listing(&dir), before, "{what}: the directory changed");
+    }
+    let kinds = |p: &str| std::fs::symlink_metadata(p).unwrap().file_type();
+    use std::os::unix::fs::FileTypeExt;
+    assert!(kinds("/dev/full").is_char_device() && kinds("/dev/null").is_char_device());
+    // The accepted ones: an earlier summary is replaced, a new directory is created.
+    for path in ["old.json", "new/s.json"] {
+        let r = sph(
+            &dir,
+            &with(
+                PLATE,
+                &["--config", "cfg.toml", "--out", "out", "--summary", path],
+            ),
+        );
+        assert_eq!(r.code, Some(0), "{path}: {}", r.stderr);
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join(path)).unwrap()).unwrap();
+        assert_eq!(s["status"], "completed");
+    }
+    assert_eq!(
+        std::fs::read_link(dir.join("link.json")).unwrap(),
+        Path::new("old.json")
+    );
+    assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 1: result destinations that are not a writable directory, or whose `.h5`/`.xmf` a
+/// run did not write, are refused before the run; nothing is written or replaced.
+#[test]
+#[cfg(unix)]
+fn results_destinations_are_refused_before_the_run() {
+    for &(what, setup, needle) in RESULTS_REFUSED {
+        let dir = scratch(&format!("results-{setup}"));
+        let out_dir = dir.join("out");
+        let h5 = out_dir.join("oscillating-plate-2d-tl.h5");
+        let xmf = out_dir.join("oscillating-plate-2d-tl.xmf");
+        let mut out = "out".to_string();
+        match setup {
+            "out-file" => std::fs::write(&out_dir, "a file").unwrap(),
+            "out-proc" => out = "/proc/sph-results".into(),
+            "h5-text" => {
+                std::fs::create_dir(&out_dir).unwrap();
+                std::fs::write(&h5, "my notes").unwrap();
+            }
+            "h5-link" => {
+                std::fs::create_dir(&out_dir).unwrap();
+                std::fs::write(dir.join("precious"), "keep").unwrap();
+                std::os::unix::fs::symlink(dir.join("precious"), &h5).unwrap();
+            }
+            "h5-fifo" => {
+                std::fs::create_dir(&out_dir).unwrap();
+                assert!(Command::new("mkfifo").arg(&h5).status().unwrap().success());
+            }
+            "xmf-dir" => std::fs::create_dir_all(&xmf).unwrap(),
+            other => unreachable!("{other}"),
+        }
+        let before = listing(&dir);
+        let r = sph(
+            &dir,
+            &with(PLATE, &["--set", "end_time=0.005", "--out", &out]),
+        );
+        assert_refused(&r, needle, what);
+        assert_eq!(listing(&dir), before, "{what}: something changed");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+/// Item 2: a second run into the results of a running one fails at once naming the first
+/// (before, both wrote `<name>.h5.tmp` and 3 of 3 trials lost a run or mismatched the
+/// sidecar); the first run's files stay complete and consistent.
+#[test]
+#[cfg(unix)]
+fn a_second_run_into_the_same_results_fails_fast() {
+    let dir = scratch("second");
+    let first = spawn(
+        &dir,
+        &with(PLATE, &["--set", "end_time=1000", "--out", "out"]),
+    );
+    wait_until_writing(&dir.join("out"), &first);
+    let holder = wait_for_text(&dir.join("out/oscillating-plate-2d-tl.h5.lock"));
+    assert_eq!(holder.trim(), first.id().to_string());
+    let r = sph(
+        &dir,
+        &with(PLATE, &["--set", "end_time=0.005", "--out", "out"]),
+    );
+    assert_refused(
+        &r,
+        &format!(
+            "another run (process {}) is writing these results",
+            first.id()
+        ),
+        "second run",
+    );
+    signal(&first, "TERM");
+    let first = finished(first.wait_with_output().unwrap());
+    assert_eq!(first.code, Some(143), "{}", first.stderr);
+    let file = sph_output::read_file(dir.join("out/oscillating-plate-2d-tl.h5")).unwrap();
+    let xmf = std::fs::read_to_string(dir.join("out/oscillating-plate-2d-tl.xmf")).unwrap();
+    assert_eq!(
+        xmf.matches("TopologyType=\"Polyvertex\"").count(),
+        file.snapshots.len(),
+        "the sidecar lists the file's snapshots"
+    );
+    assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 2 (and the SIGKILL remark of item 6): a run killed with SIGKILL leaves its lock file
+/// and its own `.tmp`; the next run of the same results takes the (dead) lock, completes, and
+/// leaves the killed run's partial file, a valid HDF5 file, alone.
+#[test]
+#[cfg(unix)]
+fn a_run_after_a_killed_run_reuses_its_lock_and_keeps_its_partial_file() {
+    let dir = scratch("killed");
+    let mut first = spawn(
+        &dir,
+        &with(PLATE, &["--set", "end_time=1000", "--out", "out"]),
+    );
+    wait_until_writing(&dir.join("out"), &first);
+    first.kill().unwrap();
+    first.wait().unwrap();
+    let partial: Vec<String> = leftovers(&dir)
+        .into_iter()
+        .filter(|n| n.ends_with(".tmp"))
+        .collect();
+    assert_eq!(partial.len(), 1, "{partial:?}");
+    let partial = dir.join(&partial[0]);
+    let kept = std::fs::read(&partial).unwrap();
+    assert!(sph_output::read_file(&partial).unwrap().snapshots.len() <= 1);
+    let r = sph(
+        &dir,
+        &with(PLATE, &["--set", "end_time=0.005", "--out", "out"]),
+    );
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    assert_eq!(std::fs::read(&partial).unwrap(), kept);
+    assert!(!dir.join("out/oscillating-plate-2d-tl.h5.lock").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Items 3 and 4: particle counts beyond the memory limit stop before allocating (before: a
+/// capacity-overflow panic, rc 101; an allocation abort, rc 134; 50 s of allocation), with
+/// one line giving the estimate and the limit; `--max-memory` moves the limit both ways.
+#[test]
+fn particle_counts_beyond_the_memory_limit_are_refused_before_allocating() {
+    let dir = scratch("budget");
+    for &(what, args, needle) in TOO_LARGE {
+        let r = sph(&dir, &with(args, &["--out", "out", "--summary", "s.json"]));
+        assert_refused(&r, needle, what);
+        if needle.contains("generate") {
+            assert!(
+                r.stderr.contains("particles needing ≈"),
+                "{what}: {}",
+                r.stderr
+            );
+        }
+    }
+    let column = [
+        "run",
+        "bending-column-3d",
+        "--set",
+        "resolution=20",
+        "--dry-run",
+    ];
+    let r = sph(&dir, &with(&column, &["--max-memory", "0.1"]));
+    assert_refused(&r, "would generate ≈ ", "column in 0.1 GiB");
+    let r = sph(&dir, &with(&column, &["--max-memory", "1"]));
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    assert!(r.stdout.contains("49200"), "{}", r.stdout);
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 5: snapshot and monitor counts, end times and thread counts beyond their limits are
+/// refused before the run (before: a full disk, or runs that never end); probes recording
+/// every step are refused when they would not fit in memory; the disk estimate names
+/// `snapshot_interval`; values at the limits are accepted.
+#[test]
+fn absurd_schedules_end_times_and_threads_are_refused() {
+    let dir = scratch("schedules");
+    let plate = ["run", "oscillating-plate-2d", "--out", "out"];
+    for &(what, args, needle) in BAD_SCHEDULES {
+        let r = sph(&dir, &with(&plate, args));
+        assert_refused(&r, needle, what);
+    }
+    let r = sph(
+        &dir,
+        &[
+            "run",
+            "pressurised-ring-2d",
+            "--set",
+            "probe_interval=0",
+            "--max-memory",
+            "0.05",
+            "--out",
+            "out",
+        ],
+    );
+    assert_refused(
+        &r,
+        "invalid probe_interval = 0.0: 16 probes record",
+        "probes",
+    );
+    for &(what, args) in GOOD_SCHEDULES {
+        let r = sph(&dir, &with(&with(&plate, args), &["--dry-run"]));
+        assert_eq!(r.code, Some(0), "{what}: {}", r.stderr);
+        assert!(r.stdout.contains("dry run"), "{what}: {}", r.stdout);
+    }
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+    // The disk estimate, in-process: snapshots larger than any disk.
+    let schedule = sph_cases::Schedule {
+        end_time: 1.0,
+        snapshot_interval: 0.01,
+        monitor_interval: 0.005,
+        probe_interval: 0.0,
+    };
+    let estimate = sph_cases::guard::Estimate {
+        particles: 1000,
+        memory_bytes: 3e6,
+        step: 1e-3,
+        steps: 1000.0,
+        particle_steps: 1e6,
+        snapshots: 102.0,
+        snapshot_bytes: 1e18,
+        monitor_samples: 202.0,
+        probes: 0,
+        probe_bytes: 0.0,
+    };
+    let options = sph_cases::RunOptions {
+        output: Some(dir.join("out/x")),
+        ..Default::default()
+    };
+    let e = estimate.check(&schedule, &options).unwrap_err().to_string();
+    assert!(
+        e.starts_with("invalid snapshot_interval = 0.01: 102 snapshots of ")
+            && e.contains("free in"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 6: SIGINT and SIGTERM no longer kill the run at once (before: an orphan `.h5.tmp`, no
+/// status, no summary): the current step is finished, a last snapshot written, the file
+/// completed with the status `interrupted at t = …`, the summary written, exit 130 / 143.
+#[test]
+#[cfg(unix)]
+fn sigint_and_sigterm_finish_the_step_and_complete_the_results() {
+    for (sig, code, name) in [("INT", 130, "SIGINT"), ("TERM", 143, "SIGTERM")] {
+        let dir = scratch(&format!("signal-{sig}"));
+        let child = spawn(
+            &dir,
+            &with(
+                PLATE,
+                &[
+                    "--set",
+                    "end_time=1000",
+                    "--out",
+                    "out",
+                    "--summary",
+                    "s.json",
+                ],
+            ),
+        );
+        wait_until_writing(&dir.join("out"), &child);
+        signal(&child, sig);
+        let r = finished(child.wait_with_output().unwrap());
+        assert_eq!(r.code, Some(code), "{}", r.stderr);
+        assert_eq!(r.stderr.trim().lines().count(), 1, "{}", r.stderr);
+        assert!(r.stderr.contains(&format!("({name})")), "{}", r.stderr);
+        let file = sph_output::read_file(dir.join("out/oscillating-plate-2d-tl.h5")).unwrap();
+        let status = file.summary["status"].as_str().unwrap();
+        assert!(
+            status.starts_with("interrupted at t = ") && status.ends_with(&format!("({name})")),
+            "{status}"
+        );
+        let reached = file.summary["time_reached"].as_f64().unwrap();
+        assert_eq!(file.snapshots.last().unwrap().time, reached);
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).unwrap()).unwrap();
+        assert_eq!(s["status"], status);
+        assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+/// Item 7: values that were silently accepted are refused, naming the key and the range.
+#[test]
+fn silently_accepted_values_are_refused() {
+    let dir = scratch("absurd");
+    std::fs::write(dir.join("method.toml"), "method = \"tl\"\n").unwrap();
+    let before = listing(&dir);
+    for &(what, args, needle) in ABSURD_VALUES {
+        let r = sph(&dir, &with(args, &["--out", "out"]));
+        assert_refused(&r, needle, what);
+    }
+    assert_eq!(listing(&dir), before);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 8: a run that blows up stops with a diagnostic (exit 1, one line) and keeps everything
+/// written: the `.h5` is completed with the snapshots before the failure and `status: failed:
+/// …`, the summary is written.
+#[test]
+fn blow_ups_stop_with_a_diagnostic_and_keep_the_results() {
+    for (k, &(what, args, needle)) in BLOW_UPS.iter().enumerate() {
+        let dir = scratch(&format!("blowup-{k}"));
+        let mut a = vec!["run"];
+        a.extend_from_slice(args);
+        a.extend_from_slice(&[
+            "--set",
+            "resolution=4",
+            "--set",
+            "end_time=0.05",
+            "--out",
+            "out",
+            "--summary",
+            "s.json",
+        ]);
+        let r = sph(&dir, &a);
+        assert_eq!(r.code, Some(1), "{what}: {}", r.stderr);
+        assert_eq!(r.stderr.trim().lines().count(), 1, "{what}: {}", r.stderr);
+        assert!(
+            r.stderr.contains("the run stopped early: "),
+            "{what}: {}",
+            r.stderr
+        );
+        assert!(r.stderr.contains(needle), "{what}: {}", r.stderr);
+        let h5 = listing(&dir.join("out"))
+            .into_keys()
+            .find(|n| n.ends_with(".h5"))
+            .expect("results");
+        let file = sph_output::read_file(dir.join("out").join(h5)).unwrap();
+        let status = file.summary["status"].as_str().unwrap();
+        assert!(status.starts_with("failed: "), "{what}: {status}");
+        assert!(!file.snapshots.is_empty());
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).unwrap()).unwrap();
+        assert_eq!(s["status"], status);
+        assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+/// Item 9: a reader that closes the pipe before `sph` writes is not an error (before:
+/// `sph list --verbose | head -1` panicked, rc 101).
+#[test]
+fn a_closed_stdout_is_not_an_error() {
+    let dir = scratch("pipe");
+    for &(what, args) in CLOSED_PIPES {
+        let mut child = spawn(&dir, args);
+        drop(child.stdout.take());
+        let r = finished(child.wait_with_output().unwrap());
+        assert_eq!(r.code, Some(0), "{what}: {}", r.stderr);
+        assert!(r.stderr.is_empty(), "{what}: {}", r.stderr);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every key of every case refuses malformed values with one line naming it; nothing is
+/// written.
+#[test]
+fn malformed_values_of_every_key_are_refused() {
+    let dir = scratch("malformed");
+    for (case, key, value) in malformed_inputs() {
+        let r = sph(
+            &dir,
+            &[
+                "run",
+                &case,
+                "--set",
+                &format!("{key}={value}"),
+                "--out",
+                "out",
+            ],
+        );
+        assert_refused(
+            &r,
+            &format!("invalid {key} = {value}"),
+            &format!("{case} {key}"),
+        );
+    }
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every numeric key of every case (one method per family), set to `1e300`, `1e-300`, `0` or
+/// `-1`, is either accepted or refused with one line, never a panic, an abort or a hang, and
+/// nothing is written (`--dry-run` builds the scene and makes every check without running it; a 1 GiB
+/// limit keeps the scenes small). Two threads share the inputs.
+#[test]
+fn extreme_values_of_every_key_never_crash() {
+    let dir = scratch("extreme");
+    let inputs = extreme_inputs();
+    let (accepted, refused) = std::thread::scope(|s| {
+        let workers: Vec<_> = inputs
+            .chunks(inputs.len().div_ceil(2))
+            .map(|chunk| {
+                let dir = &dir;
+                s.spawn(move || {
+                    let (mut ok, mut no) = (0, 0);
+                    for (case, method, key, value) in chunk {
+                        let r = sph(
+                            dir,
+                            &[
+                                "run",
+                                case,
+                                "--method",
+                                method,
+                                "--set",
+                                &format!("{key}={value}"),
+                                "--dry-run",
+                                "--max-memory",
+                                "1",
+                                "--out",
+                                "out",
+                                "--summary",
+                                "s.json",
+                            ],
+                        );
+                        let what = format!("{case} {method} {key}={value}");
+                        match r.code {
+                            Some(0) => ok += 1,
+                            Some(2) => {
+                                assert_eq!(
+                                    r.stderr.trim().lines().count(),
+                                    1,
+                                    "{what}: {}",
+                                    r.stderr
+                                );
+                                no += 1;
+                            }
+                            other => panic!("{what}: exit {other:?}: {}", r.stderr),
+                        }
+                        assert!(!r.stderr.contains("panicked"), "{what}: {}", r.stderr);
+                    }
+                    (ok, no)
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .map(|w| w.join().unwrap())
+            .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    });
+    assert_eq!(accepted + refused, inputs.len());
+    assert!(refused > accepted, "{accepted} accepted, {refused} refused");
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+// ------------------------------------------------------------------------ docs/reliability.md
+
+fn render_doc() -> String {
+    use sph_cases::guard::{MAX_MONITOR_SAMPLES, MAX_PARTICLE_STEPS, MAX_SNAPSHOTS, MAX_STEPS};
+    use sph_core::budget::{BYTES_PER_PARTICLE_2D, BYTES_PER_PARTICLE_3D, DEFAULT_MEMORY_FRACTION};
+    use sph_core::diagnostics::MIN_DT_RATIO;
+    let mut s = String::new();
+    s.push_str(
+        "# Reliability\n\n\
+         <!-- Generated by `SPH_UPDATE_DOCS=1 cargo test -p sph-cases --test robustness \
+         reliability_doc_is_current`; do not edit by hand. -->\n\n\
+         How `sph` behaves on hostile but fair input (issue 14). Every row is run by the test \
+         named in `crates/sph-cases/tests/robustness.rs` (part of `cargo test --workspace`), \
+         which asserts the outcome; this page is rendered from the same tables, and a test \
+         fails when it is out of date. Regenerate it with\n\n\
+         ```sh\n\
+         SPH_UPDATE_DOCS=1 cargo test -p sph-cases --test robustness reliability_doc_is_current\n\
+         ```\n\n\
+         ## Exit status\n\n\
+         | status | meaning |\n\
+         |---|---|\n\
+         | 0 | completed (or `--dry-run`: checked and estimated, nothing run or written) |\n\
+         | 1 | the run started and failed (blow-up, write error): the results file is completed with everything up to the last good step and `status: failed: …` |\n\
+         | 2 | bad input: one line on stderr naming the argument or key and what is allowed; nothing written |\n\
+         | 130, 143 | interrupted by SIGINT, SIGTERM: the current step finished, the file completed with `status: interrupted at t = …`, the summary written (a second signal ends the process at once) |\n\n\
+         ## Inputs tried\n\n\
+         | issue item | input class | inputs | outcome | test |\n\
+         |---|---|---|---|---|\n",
+    );
+    let mut total = 0;
+    for c in CLASSES {
+        let n = (c.count)();
+        total += n;
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | `{}` |\n",
+            c.item, c.class, n, c.outcome, c.test
+        ));
+    }
+    s.push_str(&format!("| | **total** | **{total}** | | |\n\n"));
+    s.push_str(&format!(
+        "## Guards and their limits\n\n\
+         | guard | where | limit |\n\
+         |---|---|---|\n\
+         | particles | the generators of `sph_core::generate`, before they allocate (`sph_core::budget`) | estimated peak memory = particles × {b2} B (2D) or {b3} B (3D), measured per method (table in `sph_core::budget`), at most {frac:.0} % of the available memory (`MemAvailable`, lowered by a cgroup limit) or `--max-memory GIB`; the counts of one run add up; never more than 2³² − 1 particles |\n\
+         | snapshots | `sph_cases::guard`, before the run | at most {snap} snapshots, and their estimated size within the free space of the output directory |\n\
+         | monitor samples | `sph_cases::guard` | at most {mon} |\n\
+         | probe samples | `sph_cases::guard` | their memory within the limit left by the particles |\n\
+         | work | `sph_cases::guard` | at most {ps:e} particle-steps (about a day on 2 cores) unless `--allow-long-run`; never more than {st:e} steps (time resolution) |\n\
+         | threads | `sph` | 1 to 1024 |\n\
+         | densities, moduli | `sph_cases::params::physical_range`, by key name for every case | 1e-3 to 1e6 kg/m³; 1e-3 to 1e13 Pa |\n\
+         | blow-up | every solver's step | `J = det F ≤ 0` (UL: `ρ ≤ 0`) or a non-finite state stops the run; so does a stable step below {ratio} of the acoustic step at rest (`sph_core::diagnostics::MIN_DT_RATIO`), checked in UL's acoustic sub-steps too |\n\
+         | outputs | `sph_output::safety` and `sph_cases::preflight` | replaced only if a regular file a run wrote (results file, XDMF, earlier summary); never an input, a link, device, FIFO or directory; writability probed before the run; one temporary file per writer (`<name>.<pid>-<k>.tmp`, `O_EXCL`); one writer per results file (`flock` on `<name>.h5.lock`) |\n\n\
+         `sph run … --dry-run` prints the estimates (particles, memory, steps, particle-steps, \
+         snapshots, disk, probe memory) without running or writing anything.\n\n\
+         ## Not covered here\n\n\
+         Checkpoint and restart (`--checkpoint-every`, `sph resume`) wait for the run loop to \
+         move into a library crate (issue 15). Until then a run killed with SIGKILL keeps its \
+         own `<name>.h5.<pid>-<k>.tmp`: a valid HDF5 file with every snapshot written before \
+         the kill.\n",
+        b2 = BYTES_PER_PARTICLE_2D,
+        b3 = BYTES_PER_PARTICLE_3D,
+        frac = DEFAULT_MEMORY_FRACTION * 100.0,
+        snap = MAX_SNAPSHOTS,
+        mon = MAX_MONITOR_SAMPLES,
+        ps = MAX_PARTICLE_STEPS,
+        st = MAX_STEPS,
+        ratio = MIN_DT_RATIO,
+    ));
+    s
+}
+
+/// `docs/reliability.md` is what [`render_doc`] makes of the tables above (with
+/// `SPH_UPDATE_DOCS=1`, writes it).
+#[test]
+fn reliability_doc_is_current() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/reliability.md");
+    let doc = render_doc();
+    if std::env::var_os("SPH_UPDATE_DOCS").is_some() {
+        std::fs::write(&path, &doc).unwrap();
+    }
+    let committed = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        committed == doc,
+        "docs/reliability.md is out of date; regenerate it with \
+         `SPH_UPDATE_DOCS=1 cargo test -p sph-cases --test robustness reliability_doc_is_current`"
+    );
+}
