@@ -1,8 +1,6 @@
-//! UL impacts (UL paper §6.4–6.6) and the Hertz contact verification: runs and report.
+//! UL impacts (UL paper §6.4–6.6) and the Hertz contact verification ([`crate::hertz`]): runs
+//! and report.
 //!
-//! - Hertz: two solid spheres (and a sphere on a rigid wall) against Hertz theory, ENOG at three
-//!   resolutions and two contact scales κ, OG and OAS beside it, the lattice layout for
-//!   comparison;
 //! - colliding hollow balls at 0.08 c0, ball–plate 2D at 0.02 / 0.06 / 0.12 c0 and ball–plate 3D
 //!   at 0.12 c0, each for OG, OAS and ENOG: disorder over time, connected pieces and isolated
 //!   particles (numerical fracture), stress roughness near the contact, momentum balance, energy
@@ -10,12 +8,9 @@
 
 use crate::frames::{frame_at, frame_projected, p99_value, roughness_map, roughness_series};
 use crate::plot::{line_plot, particle_frames, Frame, Series};
-use crate::store::{fmt_opt, load, pct, rel, run_or_load_then, status, StoredRun};
+use crate::store::{fmt_opt, load, pct, run_or_load_then, status, StoredRun};
 use serde_json::{Map, Value};
-use sph_cases::cases::hertz_impact_3d::{hertz_force_history, HertzTarget};
 use sph_cases::CaseError;
-use sph_core::generate::{hollow_sphere, hollow_sphere_polar, nearest_distances};
-use sph_core::D3;
 use sph_output::FileContents;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -35,128 +30,13 @@ pub struct Selection {
     pub paper: bool,
 }
 
-fn figures_dir() -> PathBuf {
+pub(crate) fn figures_dir() -> PathBuf {
     crate::workspace_root().join("docs").join("validation")
 }
 
 /// The mid-plane cut `|z| < dp` of a 3D snapshot in the x–y plane, coloured by von Mises stress.
-fn mid_plane(c: &FileContents, t: f64, title: &str, dp: f64) -> Option<Frame> {
+pub(crate) fn mid_plane(c: &FileContents, t: f64, title: &str, dp: f64) -> Option<Frame> {
     frame_projected(c, t, title, (0, 1), "von_mises", |x| x[2].abs() < dp)
-}
-
-// ---------------------------------------------------------------------------------- Hertz
-
-/// One Hertz run: method, R/dp, contact scale κ, layout, target.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Hertz {
-    method: &'static str,
-    res: u32,
-    kappa: f64,
-    lattice: bool,
-    wall: bool,
-}
-
-impl Hertz {
-    fn enog(res: u32, kappa: f64) -> Self {
-        Self {
-            method: "ul-enog",
-            res,
-            kappa,
-            lattice: false,
-            wall: false,
-        }
-    }
-
-    fn id(&self) -> String {
-        format!(
-            "hertz-{}-r{}-k{}{}{}",
-            self.method,
-            self.res,
-            self.kappa,
-            if self.lattice { "-lattice" } else { "" },
-            if self.wall { "-wall" } else { "" }
-        )
-    }
-
-    fn set(&self) -> Vec<String> {
-        let mut s = vec![
-            format!("resolution={}", self.res),
-            format!("contact_stiffness={}", self.kappa),
-            "monitor_interval=2e-4".into(),
-            "snapshot_interval=1e-3".into(),
-        ];
-        if self.lattice {
-            s.push("layout=lattice".into());
-        }
-        if self.wall {
-            s.push("target=wall".into());
-        }
-        s
-    }
-
-    fn label(&self) -> String {
-        format!(
-            "{} R/dp {} κ {}{}{}",
-            self.method,
-            self.res,
-            self.kappa,
-            if self.lattice { " lattice" } else { "" },
-            if self.wall { " wall" } else { "" }
-        )
-    }
-}
-
-/// Resolutions of the Hertz convergence series (`fine` adds 30).
-const HERTZ_RES: [u32; 3] = [10, 20, 30];
-
-fn hertz_runs(fine: bool) -> Vec<Hertz> {
-    let res: Vec<u32> = HERTZ_RES.into_iter().filter(|&r| fine || r < 30).collect();
-    let mut v = Vec::new();
-    for &r in &res {
-        v.push(Hertz::enog(r, 1.0));
-        v.push(Hertz::enog(r, 2.0));
-    }
-    for r in [10, 20] {
-        for method in ["ul-og", "ul-oas"] {
-            v.push(Hertz {
-                method,
-                ..Hertz::enog(r, 1.0)
-            });
-        }
-        v.push(Hertz {
-            lattice: true,
-            ..Hertz::enog(r, 1.0)
-        });
-        v.push(Hertz {
-            wall: true,
-            ..Hertz::enog(r, 1.0)
-        });
-    }
-    v
-}
-
-/// The Hertz runs' picture: the mid-plane at the largest contact force (R/dp = 20, ENOG, κ 1).
-fn hertz_picture(c: &FileContents, png: &Path, run: &Hertz) -> Result<Map<String, Value>, String> {
-    if run.res != 20 || run.kappa != 1.0 || run.method != "ul-enog" || run.lattice || run.wall {
-        return Ok(Map::new());
-    }
-    let t_peak = c
-        .summary
-        .get("contact_force_max_time")
-        .and_then(Value::as_f64)
-        .ok_or("no contact")?;
-    let dp = 0.05 / run.res as f64;
-    let frame = mid_plane(c, t_peak, &run.label(), dp).ok_or("no snapshot")?;
-    let vmax = p99_value(std::slice::from_ref(&frame));
-    particle_frames(
-        png,
-        "Hertz impact, mid-plane |z| < dp (von Mises, Pa)",
-        &[frame],
-        1,
-        vmax,
-        dp,
-    )?;
-    Ok(Map::new())
 }
 
 // ----------------------------------------------------------------------- impact scenes
@@ -357,17 +237,7 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
     for run in runs.iter().filter(|r| r.scene == Scene::Plate2d) {
         impact(run, sel.force)?;
     }
-    for h in hertz_runs(sel.fine) {
-        let png = figures_dir().join(format!("impact_{}.png", h.id()));
-        run_or_load_then(
-            &h.id(),
-            "hertz-impact-3d",
-            h.method,
-            &h.set(),
-            sel.force,
-            &|c| hertz_picture(c, &png, &h),
-        )?;
-    }
+    crate::hertz::run_all(sel.fine, sel.force)?;
     for run in runs.iter().filter(|r| r.scene != Scene::Plate2d) {
         impact(run, sel.force)?;
     }
@@ -387,7 +257,7 @@ fn impact(run: &Impact, force: bool) -> Result<StoredRun, CaseError> {
 
 // --------------------------------------------------------------------------------- report
 
-fn num(r: &Option<StoredRun>, key: &str) -> Option<f64> {
+pub(crate) fn num(r: &Option<StoredRun>, key: &str) -> Option<f64> {
     r.as_ref().and_then(|r| r.num(key))
 }
 
@@ -406,7 +276,7 @@ fn state(r: &Option<StoredRun>) -> String {
 }
 
 /// A number in engineering notation (`3.21e-4`), or `–`.
-fn sci(x: Option<f64>) -> String {
+pub(crate) fn sci(x: Option<f64>) -> String {
     x.map_or("–".into(), |v| format!("{v:.2e}"))
 }
 
@@ -418,335 +288,10 @@ fn first_above(r: &StoredRun, key: &str, level: f64) -> Option<f64> {
         .map(|p| p.0)
 }
 
-/// Spacing statistics of a generated ball: (particles, min, mean, max nearest distance / dp,
-/// radial spread of the particles in the outermost dp / dp).
-fn layout_stats(lattice: bool, r_in: f64, r_out: f64, dp: f64) -> Option<(usize, [f64; 4])> {
-    let set = if lattice {
-        hollow_sphere(glam::DVec3::ZERO, r_in, r_out, dp).ok()?
-    } else {
-        hollow_sphere_polar(glam::DVec3::ZERO, r_in, r_out, dp).ok()?
-    };
-    let d = nearest_distances::<D3>(set.positions(), 2.0 * dp).ok()?;
-    let n = d.len() as f64;
-    let mean = d.iter().sum::<f64>() / n;
-    let min = d.iter().copied().fold(f64::INFINITY, f64::min);
-    let max = d.iter().copied().fold(0.0, f64::max);
-    let outer: Vec<f64> = set
-        .positions()
-        .iter()
-        .map(|x| x.length())
-        .filter(|&r| r > r_out - dp)
-        .collect();
-    let lo = outer.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = outer.iter().copied().fold(0.0, f64::max);
-    Some((set.len(), [min / dp, mean / dp, max / dp, (hi - lo) / dp]))
-}
-
 /// Appends the impact sections to `md`, writing figures into `fig_dir` (linked as `rel/…`).
 pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), String> {
-    report_hertz(md, fig_dir, rel_dir)?;
+    crate::hertz::report(md, fig_dir, rel_dir)?;
     report_impacts(md, fig_dir, rel_dir)?;
-    Ok(())
-}
-
-fn report_hertz(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), String> {
-    let runs = hertz_runs(true);
-    if runs.iter().all(|h| load(&h.id()).is_none()) {
-        return Ok(());
-    }
-    writeln!(
-        md,
-        "## UL: Hertz impact of two elastic spheres (contact verification)\n"
-    )
-    .unwrap();
-    writeln!(
-        md,
-        "`hertz-impact-3d`: two solid spheres R = 0.05 m, each at 1 m/s toward the other \
-         (v/c0 = 0.0085, so the contact is quasi-static), E = 10 MPa, ν = 0.4, ρ = 1200; \
-         theory (`hertz_impact`, Johnson §11.4): t_c = 6.41 ms, F_max = 360.7 N, δ_max = 4.36 mm \
-         (a/R ≈ 0.2). Initial surface gap dp/2. The contact model is docs/methods.md's contact \
-         pressure (`sph_ul::contact`): contact density ρ_c,i = Σ_other max(W_ij − W(dp), 0) m_j \
-         (only pairs closer than dp count, so the surfaces interact when they touch), \
-         p_c = κ c0² ρ_c, pair force −2 ½(p_c,i + p_c,j) V_i V_j W′ e_ij; its one constant is \
-         the scale κ (1 = docs/methods.md), run at 1 and 2. Contact time: the first run of \
-         non-zero contact force (sampled every t_c/400; the force is exactly zero without an \
-         interacting pair); F_max: its largest x component; e: rebound/impact speed of the \
-         left sphere's centre of mass at the end (flight + 2 t_c); energy change: kinetic + \
-         elastic + contact energy at the end over the initial kinetic energy, − 1; residual: \
-         the energy budget's (docs below), with the estimates and with the exactly accumulated \
-         works. The wall variant (`target = wall`: a fixed lattice slab) has the same t_c and \
-         F_max in theory. Runtimes were measured on the shared 2-core machine under load \
-         (other jobs running): they are not quiet-machine timings.\n"
-    )
-    .unwrap();
-    writeln!(
-        md,
-        "| run | particles | t_c (ms) | vs theory | F_max (N) | vs theory | e | energy change | residual | residual, exact works | momentum | wall s | particle-steps/s |"
-    )
-    .unwrap();
-    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|").unwrap();
-    for h in &runs {
-        let r = load(&h.id());
-        if r.is_none() {
-            continue;
-        }
-        let t = num(&r, "contact_time");
-        let f = num(&r, "max_force");
-        writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-            h.label(),
-            fmt_opt(num(&r, "particles"), 0),
-            fmt_opt(t.map(|t| 1e3 * t), 3),
-            pct(rel(t, num(&r, "contact_time_theory"))),
-            fmt_opt(f, 1),
-            pct(rel(f, num(&r, "max_force_theory"))),
-            fmt_opt(num(&r, "restitution"), 4),
-            pct(num(&r, "energy_change")),
-            pct(num(&r, "energy_residual")),
-            pct(num(&r, "energy_residual_exact_work")),
-            sci(num(&r, "momentum_balance")),
-            fmt_opt(num(&r, "wall_seconds"), 0),
-            sci(num(&r, "particle_steps_per_second")),
-        )
-        .unwrap();
-    }
-    writeln!(md).unwrap();
-    // κ sensitivity and convergence.
-    let mut conv: Vec<Series> = Vec::new();
-    let mut kappa_lines = Vec::new();
-    for (label, pick) in [
-        ("ENOG κ 1: t_c", Hertz::enog(0, 1.0)),
-        ("ENOG κ 2: t_c", Hertz::enog(0, 2.0)),
-        (
-            "OG κ 1: t_c",
-            Hertz {
-                method: "ul-og",
-                ..Hertz::enog(0, 1.0)
-            },
-        ),
-        (
-            "OAS κ 1: t_c",
-            Hertz {
-                method: "ul-oas",
-                ..Hertz::enog(0, 1.0)
-            },
-        ),
-    ] {
-        let pts: Vec<(f64, f64)> = HERTZ_RES
-            .iter()
-            .filter_map(|&res| {
-                let r = load(&Hertz { res, ..pick }.id());
-                rel(num(&r, "contact_time"), num(&r, "contact_time_theory"))
-                    .map(|e| (res as f64, 100.0 * e))
-            })
-            .collect();
-        if !pts.is_empty() {
-            conv.push(Series {
-                label: label.into(),
-                points: pts,
-                markers: true,
-            });
-        }
-    }
-    for (label, pick) in [
-        ("ENOG κ 1: F_max", Hertz::enog(0, 1.0)),
-        ("ENOG κ 2: F_max", Hertz::enog(0, 2.0)),
-    ] {
-        let pts: Vec<(f64, f64)> = HERTZ_RES
-            .iter()
-            .filter_map(|&res| {
-                let r = load(&Hertz { res, ..pick }.id());
-                rel(num(&r, "max_force"), num(&r, "max_force_theory"))
-                    .map(|e| (res as f64, 100.0 * e))
-            })
-            .collect();
-        if !pts.is_empty() {
-            conv.push(Series {
-                label: label.into(),
-                points: pts,
-                markers: true,
-            });
-        }
-    }
-    for res in HERTZ_RES {
-        let (a, b) = (
-            load(&Hertz::enog(res, 1.0).id()),
-            load(&Hertz::enog(res, 2.0).id()),
-        );
-        if let (Some(t1), Some(t2)) = (num(&a, "contact_time"), num(&b, "contact_time")) {
-            kappa_lines.push(format!(
-                "R/dp = {res}: t_c {} and F_max {}",
-                pct(Some(t2 / t1 - 1.0)),
-                pct(rel(num(&b, "max_force"), num(&a, "max_force")))
-            ));
-        }
-    }
-    if !kappa_lines.is_empty() {
-        writeln!(
-            md,
-            "**Contact scale κ = 1 → 2 (ENOG):** {}. The constant matters at a finite \
-             resolution: the contact pressure acts only within dp, so the contact layer is a \
-             penalty spring of thickness ~dp whose compliance adds to Hertz's; it shrinks with \
-             dp (first order), and so does the effect of κ.\n",
-            kappa_lines.join("; ")
-        )
-        .unwrap();
-    }
-    if !conv.is_empty() {
-        line_plot(
-            &fig_dir.join("impact_hertz_convergence.png"),
-            "Hertz impact: error vs theory (%) against R/dp",
-            "R/dp",
-            "error (%)",
-            &conv,
-        )?;
-        writeln!(
-            md,
-            "![Hertz convergence]({rel_dir}/impact_hertz_convergence.png)\n"
-        )
-        .unwrap();
-    }
-    // Force histories against Hertz's.
-    let mut curves = Vec::new();
-    for h in runs
-        .iter()
-        .filter(|h| h.method == "ul-enog" && !h.lattice && !h.wall && h.kappa == 1.0)
-    {
-        if let Some(r) = load(&h.id()) {
-            let start = r.num("contact_start").unwrap_or(0.0);
-            curves.push(Series {
-                label: h.label(),
-                points: r
-                    .series_values("contact_force_0", 0)
-                    .into_iter()
-                    .map(|(t, f)| (1e3 * (t - start), -f))
-                    .collect(),
-                markers: false,
-            });
-        }
-    }
-    if !curves.is_empty() {
-        let (r, rho) = (0.05, 1200.0);
-        let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
-        curves.push(Series {
-            label: "Hertz".into(),
-            points: hertz_force_history(HertzTarget::Sphere, r, m, 1e7, 0.4, 1.0, 200)
-                .into_iter()
-                .map(|(t, f)| (1e3 * t, f))
-                .collect(),
-            markers: false,
-        });
-        line_plot(
-            &fig_dir.join("impact_hertz_force.png"),
-            "Hertz impact, ENOG κ = 1: contact force against time from first contact",
-            "t − t_contact (ms)",
-            "F (N)",
-            &curves,
-        )?;
-        writeln!(md, "![Hertz force]({rel_dir}/impact_hertz_force.png)\n").unwrap();
-    }
-    let wall: Vec<String> = [10, 20]
-        .iter()
-        .filter_map(|&res| {
-            let w = load(
-                &Hertz {
-                    wall: true,
-                    ..Hertz::enog(res, 1.0)
-                }
-                .id(),
-            )?;
-            let s = load(&Hertz::enog(res, 1.0).id())?;
-            let e = |r: &StoredRun| rel(r.num("contact_time"), r.num("contact_time_theory"));
-            Some(format!(
-                "R/dp = {res}: t_c {} on the wall against {} sphere on sphere",
-                pct(e(&w)),
-                pct(e(&s))
-            ))
-        })
-        .collect();
-    if !wall.is_empty() {
-        writeln!(
-            md,
-            "**Sphere on a rigid wall.** Theory gives the same t_c and F_max as two spheres, \
-             with half the approach δ_max (the wall is the symmetry plane); the contact layer's \
-             penetration is about the same, so its share of the approach, and the error, about \
-             doubles: {}.\n",
-            wall.join("; ")
-        )
-        .unwrap();
-    }
-    let pic = format!("impact_{}.png", Hertz::enog(20, 1.0).id());
-    if fig_dir.join(&pic).exists() {
-        writeln!(md, "![Hertz mid-plane]({rel_dir}/{pic})\n").unwrap();
-    }
-    // Layout: layers against the lattice cut.
-    writeln!(
-        md,
-        "**Particle layout of the balls.** `layers` = concentric spherical layers, each a \
-         Fibonacci lattice (`sph_core::generate::hollow_sphere_polar`); `lattice` = a cubic \
-         lattice cut (`hollow_sphere`). Nearest-neighbour distance / dp (min, mean, max) and \
-         the radial spread of the particles in the outermost dp (0 = a smooth sphere, ≈ 1 = a \
-         staircase), computed by `validate report`:\n"
-    )
-    .unwrap();
-    writeln!(
-        md,
-        "| body | layout | particles | nearest min | mean | max | surface spread |"
-    )
-    .unwrap();
-    writeln!(md, "|---|---|---|---|---|---|---|").unwrap();
-    for (body, r_in, r_out, dp) in [
-        ("hollow ball, dp 0.002", 0.03, 0.04, 0.002),
-        ("solid sphere, R/dp 10", 0.0, 0.05, 0.005),
-    ] {
-        for lattice in [false, true] {
-            if let Some((n, s)) = layout_stats(lattice, r_in, r_out, dp) {
-                writeln!(
-                    md,
-                    "| {body} | {} | {n} | {:.3} | {:.3} | {:.3} | {:.3} |",
-                    if lattice { "lattice" } else { "layers" },
-                    s[0],
-                    s[1],
-                    s[2],
-                    s[3]
-                )
-                .unwrap();
-            }
-        }
-    }
-    writeln!(md).unwrap();
-    let layers = load(&Hertz::enog(10, 1.0).id());
-    let lattice = load(
-        &Hertz {
-            lattice: true,
-            ..Hertz::enog(10, 1.0)
-        }
-        .id(),
-    );
-    writeln!(
-        md,
-        "At R/dp = 10 the lattice spheres meet on flat facets of lattice cells: t_c {} and \
-         F_max {} against {} and {} with layers. The layered spheres are used by default \
-         (and for the balls and the 3D plate's ball).\n",
-        pct(rel(
-            num(&lattice, "contact_time"),
-            num(&lattice, "contact_time_theory")
-        )),
-        pct(rel(
-            num(&lattice, "max_force"),
-            num(&lattice, "max_force_theory")
-        )),
-        pct(rel(
-            num(&layers, "contact_time"),
-            num(&layers, "contact_time_theory")
-        )),
-        pct(rel(
-            num(&layers, "max_force"),
-            num(&layers, "max_force_theory")
-        )),
-    )
-    .unwrap();
     Ok(())
 }
 
@@ -776,7 +321,8 @@ fn report_impacts(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), 
          |x| > 0.15), over the largest 99th-percentile von Mises stress of the run, largest \
          over the snapshots (3D: in the mid-plane |z| < dp); momentum = |Σ m v − Σ m v(0) + \
          supports' impulse| / Σ m|v(0)|; residual = the energy budget's at the end (estimate \
-         / exact works, see below). The 3D scenes run for every method at dp = {BALLS_DP} \
+         / exact works, see below). `validate impacts` runs the 3D scenes for every method at \
+         dp = {BALLS_DP} \
          (balls; the paper's 0.001 is 8× the particles) and dp = {PLATE3D_DP} (plate; the \
          paper's 0.0025 is 8× the particles, 2× the steps). The balls at the paper's \
          resolution are `validate impacts --paper` (ENOG: 310,000 particles, ≈ 6e8 \
@@ -890,6 +436,20 @@ fn report_impacts(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), 
         if let Some(r) = load(&run.id()) {
             writeln!(md, "- `{}`", r.command).unwrap();
         }
+    }
+    for run in impact_runs(false)
+        .iter()
+        .filter(|r| load(&r.id()).is_none())
+    {
+        let sets: String = run.set().iter().map(|s| format!(" --set {s}")).collect();
+        writeln!(
+            md,
+            "- not stored yet (`validate impacts` runs it; add `--dry-run` for its particle and \
+             step estimate): `cargo run --release -p sph-cases --bin sph -- run {} --method {}{sets}`",
+            run.scene.case(),
+            run.method
+        )
+        .unwrap();
     }
     for (scene, dp) in [(Scene::Balls, 0.001), (Scene::Plate3d, 0.0025)] {
         let paper = Impact {

@@ -5,6 +5,7 @@
 
 pub mod extreme;
 pub mod frames;
+pub mod hertz;
 pub mod impacts;
 pub mod mps;
 pub mod plot;
