@@ -3,6 +3,7 @@
 //! sittings), and `report` turns the stored results into `docs/validation.md` with PNG plots.
 #![deny(missing_docs)]
 
+pub mod cost;
 pub mod extreme;
 pub mod frames;
 pub mod hertz;
@@ -11,6 +12,7 @@ pub mod mps;
 pub mod plot;
 pub mod store;
 pub mod tl;
+pub mod tradeoff;
 pub mod ul;
 
 use std::path::PathBuf;

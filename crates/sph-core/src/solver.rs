@@ -136,6 +136,13 @@ pub trait Solver<D: Dim>: Send {
         None
     }
 
+    /// Neighbour pairs visited by the force evaluations so far (directed pairs summed over
+    /// evaluations): the machine-independent work of the run, for cost comparisons between
+    /// methods. `None` if the solver does not count it.
+    fn pair_visits(&self) -> Option<u64> {
+        None
+    }
+
     /// Advances until `time() ≥ t_end` (the last step is shortened to land on it). Returns the
     /// number of steps taken.
     fn advance_to(&mut self, t_end: f64) -> Result<u64, Error> {

@@ -137,6 +137,8 @@ pub struct RunRecord {
     pub estimate: Option<crate::guard::Estimate>,
     /// The results file, if one was written.
     pub file: Option<PathBuf>,
+    /// Neighbour pairs visited by the force evaluations ([`Solver::pair_visits`]).
+    pub pair_visits: Option<u64>,
 }
 
 impl RunRecord {
@@ -214,6 +216,7 @@ impl RunRecord {
             json!(self.particle_steps_per_second()),
         );
         m.insert("threads".into(), json!(rayon::current_num_threads()));
+        m.insert("pair_visits".into(), json!(self.pair_visits));
         m.insert("max_disorder".into(), finite_or_null(self.max_disorder()));
         m.insert(
             "energy_drift".into(),
@@ -419,6 +422,7 @@ pub fn drive<D: Dim>(
         }
     }
     record.steps = solver.step_count();
+    record.pair_visits = solver.pair_visits();
     record.time = solver.time();
     record.wall_seconds = started.elapsed().as_secs_f64();
     let mut summary = record.standard_summary(&meta_str(&meta, "case"), solver.method());

@@ -87,6 +87,11 @@ impl<D: Dim> Contact<D> {
         NeighborList::from_parts(own_off, own_ix)
     }
 
+    /// Cross-body pairs of the current contact list (directed, as the solver's own list).
+    pub fn num_pairs(&self) -> usize {
+        self.list.num_pairs()
+    }
+
     /// Applies `perm[new] = old` to the per-particle fields.
     pub fn permute(&mut self, perm: &[u32]) {
         use sph_core::neighbor::apply_permutation;

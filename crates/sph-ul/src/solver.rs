@@ -215,6 +215,9 @@ pub struct UlSolver<D: Dim> {
     first_isolation: Option<f64>,
     // Scratch (allocated once).
     pressures: Vec<f64>,
+    /// `V_j = m_j/ρ_j` of the current densities, set with the pressures (the pair loops read it
+    /// instead of dividing per pair).
+    current_volumes: Vec<f64>,
     accelerations: Vec<D::Vector>,
     artificial: Vec<D::Matrix>,
     volumes: Vec<f64>,
@@ -226,6 +229,8 @@ pub struct UlSolver<D: Dim> {
     time: f64,
     steps: u64,
     acoustic_steps: u64,
+    /// Pairs visited by the force evaluations so far ([`Solver::pair_visits`]).
+    pair_visits: u64,
     rebuilds: u64,
     max_speed: f64,
 }
@@ -333,6 +338,7 @@ impl<D: Dim> UlSolver<D> {
             isolated_max: 0,
             first_isolation: None,
             pressures: vec![0.0; n],
+            current_volumes: vec![0.0; n],
             accelerations: vec![D::zero(); n],
             artificial: if matches!(variant, Variant::Artificial { .. }) {
                 vec![D::zero_matrix(); n]
@@ -347,6 +353,7 @@ impl<D: Dim> UlSolver<D> {
             time: 0.0,
             steps: 0,
             acoustic_steps: 0,
+            pair_visits: 0,
             rebuilds: 0,
             max_speed: 0.0,
         };
@@ -598,6 +605,11 @@ impl<D: Dim> UlSolver<D> {
             .iter_mut()
             .zip(&self.densities)
             .for_each(|(p, &rho)| *p = pressure(rho, rho0, c0));
+        self.current_volumes
+            .iter_mut()
+            .zip(&self.masses)
+            .zip(&self.densities)
+            .for_each(|((v, &m), &rho)| *v = m / rho);
     }
 
     /// Step 4 of the module docs: continuity (eq 11), the Jaumann rate of `τ` (eq 6–8, 14/26)
@@ -630,10 +642,10 @@ impl<D: Dim> UlSolver<D> {
     fn rates_loop<const GRAD: bool, const LAP: u8>(&mut self, corrected: bool, factor: f64) {
         let list = &self.list;
         let pairs = &self.pairs;
-        let (x_v, rho, m, p, tau, b) = (
+        let (x_v, rho, vol, p, tau, b) = (
             &self.velocities,
             &self.densities,
-            &self.masses,
+            &self.current_volumes,
             &self.pressures,
             &self.stress,
             &self.correction,
@@ -646,7 +658,7 @@ impl<D: Dim> UlSolver<D> {
             let mut lap = D::zero();
             for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
                 let j = j as usize;
-                let v_j = m[j] / rho[j];
+                let v_j = vol[j];
                 let v_ij = v_i - x_v[j];
                 let u = D::dot(v_ij, pk.e);
                 drho += u * pk.dw * v_j;
@@ -758,10 +770,10 @@ impl<D: Dim> UlSolver<D> {
         shear: &S,
         i: usize,
     ) -> (D::Vector, [D::Vector; 2]) {
-        let (vel, rho, m, p) = (
+        let (vel, rho, vol, p) = (
             &self.velocities,
             &self.densities,
-            &self.masses,
+            &self.current_volumes,
             &self.pressures,
         );
         let (rho0, c0, scheme) = (self.rho0, self.c0, self.params.riemann);
@@ -773,7 +785,7 @@ impl<D: Dim> UlSolver<D> {
             .zip(self.list.neighbors(i))
         {
             let j = j as usize;
-            let vj_rho_i = m[j] / rho[j] * inv_rho_i;
+            let vj_rho_i = vol[j] * inv_rho_i;
             let u = D::dot(v_i - vel[j], pk.e);
             let p_diss = dissipative_pressure(u, rho0, c0, scheme);
             let p_star = 0.5 * (p_i + p[j]) + p_diss;
@@ -872,6 +884,8 @@ impl<D: Dim> UlSolver<D> {
         }
         self.max_speed = max_norm::<D>(&self.velocities, &self.free);
         self.acoustic_steps += 1;
+        self.pair_visits +=
+            (self.list.num_pairs() + self.contact.as_ref().map_or(0, |c| c.num_pairs())) as u64;
     }
 
     /// `Σ m_i a_i` (serial, deterministic).
@@ -1216,32 +1230,23 @@ impl<D: Dim> UlSolver<D> {
 /// Column names of the contact-force series (the force's components).
 const AXES: [&str; 3] = ["x", "y", "z"];
 
-/// Bodies smaller than this run the neighbour gathers on the calling thread (as
-/// `sph_mps::wls::PARALLEL_THRESHOLD`): below it the hand-off to the rayon pool costs more than
-/// the loop. Results are identical either way (gathers write only their own entry and sum in
-/// neighbour-list order).
-pub const PARALLEL_THRESHOLD: usize = 1024;
+/// Loops over fewer particles than twice this run on the calling thread (one threshold for
+/// every method: [`sph_core::parallel`]).
+pub const PARALLEL_THRESHOLD: usize = sph_core::parallel::MIN_PARTICLES_PER_TASK;
 
-/// `f(i, &mut out[i])` for every `i`: on the rayon pool for large bodies, else on this thread.
-#[inline]
-pub(crate) fn gather<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
-    if out.len() >= PARALLEL_THRESHOLD {
-        out.par_iter_mut().enumerate().for_each(|(i, o)| f(i, o));
-    } else {
-        out.iter_mut().enumerate().for_each(|(i, o)| f(i, o));
-    }
-}
+pub(crate) use sph_core::parallel::gather;
 
-/// [`gather`] writing two arrays: `f(i, &mut a[i], &mut b[i])`.
+/// [`gather`] writing two arrays: `f(i, &mut a[i], &mut b[i])`, by the same rule.
 #[inline]
 fn gather_pairs<T: Send, U: Send>(
     a: &mut [T],
     b: &mut [U],
     f: impl Fn(usize, &mut T, &mut U) + Sync + Send,
 ) {
-    if a.len() >= PARALLEL_THRESHOLD {
+    if sph_core::parallel::worth_splitting(a.len()) {
         a.par_iter_mut()
             .zip(b.par_iter_mut())
+            .with_min_len(PARALLEL_THRESHOLD)
             .enumerate()
             .for_each(|(i, (x, y))| f(i, x, y));
     } else {
@@ -1365,6 +1370,10 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
 
     fn time(&self) -> f64 {
         self.time
+    }
+
+    fn pair_visits(&self) -> Option<u64> {
+        Some(self.pair_visits)
     }
 
     fn step_count(&self) -> u64 {
