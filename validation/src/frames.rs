@@ -110,6 +110,25 @@ pub fn rings_roughness(c: &FileContents, dp: f64) -> Map<String, Value> {
         .iter()
         .filter_map(|s| frame_at(c, s.time, ""))
         .collect();
+    roughness_map(
+        c,
+        &frames,
+        dp,
+        &|x, y| x.abs() < 0.01 && y.abs() < 0.02,
+        &|x, _| x.abs() > 0.07,
+    )
+}
+
+/// Stress roughness (see [`roughness`]) of every frame (one per snapshot) in the regions
+/// `near` and `far`, divided by the largest 99th-percentile von Mises stress of the run:
+/// `{roughness: {time, near, far, scale}}`, the form [`roughness_series`] reads.
+pub fn roughness_map(
+    c: &FileContents,
+    frames: &[Frame],
+    dp: f64,
+    near: &dyn Fn(f64, f64) -> bool,
+    far: &dyn Fn(f64, f64) -> bool,
+) -> Map<String, Value> {
     let scale = frames
         .iter()
         .map(|f| p99_value(std::slice::from_ref(f)))
@@ -120,8 +139,8 @@ pub fn rings_roughness(c: &FileContents, dp: f64) -> Map<String, Value> {
             .map(|f| roughness(f, dp, region).map(|r| r / scale))
             .collect()
     };
-    let near = series(&|x, y| x.abs() < 0.01 && y.abs() < 0.02);
-    let far = series(&|x, _| x.abs() > 0.07);
+    let near = series(near);
+    let far = series(far);
     let t: Vec<f64> = c.snapshots.iter().map(|s| s.time).collect();
     let mut m = Map::new();
     m.insert(

@@ -6,6 +6,8 @@
 pub mod cost;
 pub mod extreme;
 pub mod frames;
+pub mod hertz;
+pub mod impacts;
 pub mod mps;
 pub mod plot;
 pub mod store;

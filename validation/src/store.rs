@@ -22,6 +22,11 @@ pub struct StoredRun {
     pub summary: Map<String, Value>,
     /// Probe time series (downsampled to at most 2,000 samples): name → (t, x, y, z).
     pub probes: Map<String, Value>,
+    /// Series the solver recorded (e.g. contact forces, columns `x`, `y`, `z`; downsampled to
+    /// at most 2,000 samples, keeping the largest magnitude of each stride): name → (`t`, one
+    /// array per column).
+    #[serde(default)]
+    pub series: Map<String, Value>,
 }
 
 impl StoredRun {
@@ -48,6 +53,45 @@ impl StoredRun {
             .unwrap_or_default();
         t.iter()
             .zip(&c)
+            .filter_map(|(a, b)| Some((a.as_f64()?, b.as_f64()?)))
+            .collect()
+    }
+
+    /// A solver series `(t, component k)` (e.g. `contact_force_0`, columns `x`, `y`, `z`).
+    pub fn series_values(&self, name: &str, k: usize) -> Vec<(f64, f64)> {
+        let Some(p) = self.series.get(name) else {
+            return Vec::new();
+        };
+        let get = |key: &str| {
+            p.get(key)
+                .and_then(Value::as_array)
+                .cloned()
+                .unwrap_or_default()
+        };
+        get("t")
+            .iter()
+            .zip(&get(["x", "y", "z"][k]))
+            .filter_map(|(a, b)| Some((a.as_f64()?, b.as_f64()?)))
+            .collect()
+    }
+
+    /// A series of the energy budget over the monitor samples (`residual`, `kinetic`,
+    /// `dissipated`, ...), as `(t, value)`.
+    pub fn budget_series(&self, key: &str) -> Vec<(f64, f64)> {
+        let m = self.summary.get("monitor");
+        let t = m
+            .and_then(|m| m.get("time"))
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default();
+        let v = m
+            .and_then(|m| m.get("energy_budget"))
+            .and_then(|b| b.get(key))
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default();
+        t.iter()
+            .zip(&v)
             .filter_map(|(a, b)| Some((a.as_f64()?, b.as_f64()?)))
             .collect()
     }
@@ -132,6 +176,7 @@ pub fn run_or_load_then(
     eprintln!("running {id}: {case} --method {method} {}", set.join(" "));
     let (record, mut summary) = c.run(method, &params, &options)?;
     let mut probes = Map::new();
+    let mut series = Map::new();
     if let Some(file) = &record.file {
         let contents = sph_output::read_file(file)?;
         let extra = after(&contents).map_err(CaseError::Config)?;
@@ -149,6 +194,33 @@ pub fn run_or_load_then(
                 serde_json::json!({ "t": t, "x": pick(0), "y": pick(1), "z": pick(2) }),
             );
         }
+        for (name, s) in contents.series {
+            let n = s.times.len();
+            let stride = n.div_ceil(2000).max(1);
+            // Keep each stride's sample of largest magnitude over the columns, so peaks survive.
+            let magnitude =
+                |i: usize| -> f64 { s.columns.values().map(|c| c[i] * c[i]).sum::<f64>() };
+            let picks: Vec<usize> = (0..n)
+                .step_by(stride)
+                .map(|a| {
+                    (a..(a + stride).min(n))
+                        .max_by(|&i, &j| magnitude(i).total_cmp(&magnitude(j)))
+                        .unwrap_or(a)
+                })
+                .collect();
+            let mut out = Map::new();
+            out.insert(
+                "t".into(),
+                serde_json::json!(picks.iter().map(|&i| s.times[i]).collect::<Vec<_>>()),
+            );
+            for (col, v) in &s.columns {
+                out.insert(
+                    col.clone(),
+                    serde_json::json!(picks.iter().map(|&i| v[i]).collect::<Vec<_>>()),
+                );
+            }
+            series.insert(name, Value::Object(out));
+        }
         let _ = std::fs::remove_file(file);
         let _ = std::fs::remove_file(sph_output::xmf_path(&file.with_extension("")));
     }
@@ -163,6 +235,7 @@ pub fn run_or_load_then(
         ),
         summary,
         probes,
+        series,
     };
     std::fs::create_dir_all(results_dir()).map_err(|e| CaseError::Io {
         path: results_dir().display().to_string(),

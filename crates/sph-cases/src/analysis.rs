@@ -1,4 +1,5 @@
-//! Figures derived from recorded time series: oscillation period and amplitude.
+//! Figures derived from recorded time series: oscillation period and amplitude, contact
+//! intervals.
 
 /// Times at which `y(t) − level` changes sign downward (from > 0 to ≤ 0), linearly interpolated.
 pub fn downward_crossings(t: &[f64], y: &[f64], level: f64) -> Vec<f64> {
@@ -35,9 +36,40 @@ pub fn extremes(y: &[f64]) -> (f64, f64) {
         })
 }
 
+/// The first contact of a sampled force magnitude `f(t)`: the first run of consecutive samples
+/// with `f > 0`, as `(start, end)` with each end half-way between the last zero sample and the
+/// first non-zero one (so the error is at most half a sample interval per end). A contact force
+/// is exactly zero while no pair interacts, so no threshold is needed. `None` without contact;
+/// the end is the last sample when the contact has not ended.
+pub fn first_contact(t: &[f64], f: &[f64]) -> Option<(f64, f64)> {
+    let n = t.len().min(f.len());
+    let first = (0..n).find(|&k| f[k] > 0.0)?;
+    let last = (first..n).take_while(|&k| f[k] > 0.0).last()?;
+    let start = if first > 0 {
+        0.5 * (t[first - 1] + t[first])
+    } else {
+        t[first]
+    };
+    let end = if last + 1 < n {
+        0.5 * (t[last] + t[last + 1])
+    } else {
+        t[last]
+    };
+    Some((start, end))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn first_contact_brackets_the_non_zero_run() {
+        let t: Vec<f64> = (0..10).map(|k| k as f64).collect();
+        let f = [0.0, 0.0, 1.0, 3.0, 2.0, 0.0, 0.0, 5.0, 0.0, 0.0];
+        assert_eq!(first_contact(&t, &f), Some((1.5, 4.5)));
+        assert_eq!(first_contact(&t, &[0.0; 10]), None);
+        assert_eq!(first_contact(&t[..4], &f[..4]), Some((1.5, 3.0)));
+    }
 
     #[test]
     fn period_of_a_sampled_sine_is_recovered() {

@@ -152,6 +152,28 @@ fn ul_enog_dual_stepping_resumed_run_is_bit_identical() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// Two UL bodies in contact with the energy budget on: the resumed run carries the budget's
+/// accumulated works, the momentum balance and the contact-force series (the summary's
+/// `energy_residual*`, `momentum_balance` and `/series` compare equal).
+#[test]
+fn ul_contact_with_energy_budget_resumed_run_is_bit_identical() {
+    let dir = resumed_run_is_bit_identical(
+        "ul-contact",
+        &[
+            "run",
+            "hertz-impact-3d",
+            "--method",
+            "ul-enog",
+            "--set",
+            "resolution=4",
+            "--set",
+            "snapshot_interval=0.004",
+        ],
+        "0.006",
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 #[test]
 fn mps_resumed_run_is_bit_identical() {
     let dir = resumed_run_is_bit_identical(

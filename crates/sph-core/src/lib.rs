@@ -39,6 +39,6 @@ pub use neighbor::{CellGrid, NeighborList};
 pub use pairs::PairKernel;
 pub use relaxation::{PairwiseDamper, PairwiseDamping};
 pub use scene::{Constraint, Constraints, Loads, Probe, Series, TimeFunction};
-pub use solver::{Field, Solver, StepInfo};
+pub use solver::{EnergyBudget, Field, Solver, StepInfo};
 pub use state::{StateReader, StateWriter};
 pub use tool::{RigidTool, ToolMotion, ToolShape};

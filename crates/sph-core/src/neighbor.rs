@@ -106,6 +106,42 @@ impl NeighborList {
         (0..self.len()).map(|i| self.count(i)).max().unwrap_or(0)
     }
 
+    /// Connected components of the neighbour graph (`i` and `j` joined when `j` is a neighbour of
+    /// `i`): a label per point, `0..count` in order of each component's first point, and the
+    /// count. A body that breaks into pieces (numerical fracture) has more than one component.
+    pub fn components(&self) -> (Vec<u32>, usize) {
+        let n = self.len();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        fn root(parent: &mut [u32], mut i: u32) -> u32 {
+            while parent[i as usize] != i {
+                let p = parent[i as usize];
+                parent[i as usize] = parent[p as usize];
+                i = p;
+            }
+            i
+        }
+        for i in 0..n {
+            for &j in self.neighbors(i) {
+                let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j));
+                if a != b {
+                    parent[a.max(b) as usize] = a.min(b);
+                }
+            }
+        }
+        let mut label = vec![u32::MAX; n];
+        let mut count = 0u32;
+        let mut out = vec![0u32; n];
+        for i in 0..n {
+            let r = root(&mut parent, i as u32) as usize;
+            if label[r] == u32::MAX {
+                label[r] = count;
+                count += 1;
+            }
+            out[i] = label[r];
+        }
+        (out, count as usize)
+    }
+
     /// Concatenates per-block results (counts and indices per block, in block order).
     /// Sorts every row ascending (the canonical order, in parallel over rows).
     pub fn sort_rows(&mut self) {

@@ -26,6 +26,45 @@ pub struct StepInfo {
     pub step: u64,
 }
 
+/// An energy budget: named terms whose sum the continuous problem conserves, so that the
+/// discrete scheme's error shows as one number, the residual `total − initial_total`.
+///
+/// `terms` holds stored energies (kinetic, elastic parts, contact) and accumulated transfers
+/// with the sign that keeps the sum constant (energy dissipated counts positive, work done on
+/// the body by forces outside the model negative). `notes` holds diagnostics that are not part
+/// of the sum, e.g. an exactly accumulated work beside the energy estimate that stands in the
+/// sum.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EnergyBudget {
+    /// Terms of the conserved total.
+    pub terms: Vec<(&'static str, f64)>,
+    /// Diagnostics outside the total.
+    pub notes: Vec<(&'static str, f64)>,
+    /// The total at `t = 0`.
+    pub initial_total: f64,
+}
+
+impl EnergyBudget {
+    /// Sum of the terms.
+    pub fn total(&self) -> f64 {
+        self.terms.iter().map(|t| t.1).sum()
+    }
+
+    /// `total − initial_total`: zero for a scheme that conserves what the terms account for.
+    pub fn residual(&self) -> f64 {
+        self.total() - self.initial_total
+    }
+
+    /// The term or note called `name`.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.terms
+            .iter()
+            .chain(&self.notes)
+            .find(|t| t.0 == name)
+            .map(|t| t.1)
+    }
+}
+
 /// A particle method advancing one body (or a set of interacting bodies) in time.
 pub trait Solver<D: Dim>: Send {
     /// Method name as the command line spells it (`tl-hf`, `ul-enog`, `mps`, ...).
@@ -124,6 +163,11 @@ pub trait Solver<D: Dim>: Send {
             "the method {} cannot restore a state",
             self.method()
         )))
+    }
+
+    /// The energy budget (see [`EnergyBudget`]), for methods that keep one.
+    fn energy_budget(&self) -> Option<EnergyBudget> {
+        None
     }
 
     /// Neighbour pairs visited by the force evaluations so far (directed pairs summed over

@@ -4,8 +4,8 @@
 
 use glam::{DVec2, DVec3};
 use sph_core::generate::{
-    annulus_lattice, annulus_polar, hollow_sphere, tube_polar, Aabb, Annulus, Cylinder,
-    HollowSphere, Lattice, ParticleSet, Shape,
+    annulus_lattice, annulus_polar, hollow_sphere, hollow_sphere_polar, nearest_distances,
+    tube_polar, Aabb, Annulus, Cylinder, HollowSphere, Lattice, ParticleSet, Shape,
 };
 use sph_core::neighbor::invert_permutation;
 use sph_core::{Error, D2, D3};
@@ -511,6 +511,99 @@ fn from_parts_validates_lengths_and_values() {
     assert_eq!(set.masses(10.0), vec![10.0, 20.0]);
 }
 
+/// Mean, population standard deviation, minimum and maximum.
+fn stats(v: &[f64]) -> (f64, f64, f64, f64) {
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let sd = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
+    let min = v.iter().copied().fold(f64::INFINITY, f64::min);
+    let max = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (mean, sd, min, max)
+}
+
+#[test]
+fn hollow_sphere_polar_volumes_sum_to_the_shell_volume_and_layers_are_spheres() {
+    // Tolerance 1e-10 relative: each layer's volumes are its exact shell volume split evenly,
+    // so only the round-off of summing ≤ 1.6e5 terms (≈ n ε ≈ 4e-11 at worst) remains.
+    let c = v3(0.1, -0.2, 0.3);
+    for (r_in, r_out, dp) in [
+        (0.03, 0.04, 0.001),
+        (0.03, 0.04, 0.0013),
+        (0.0, 0.05, 0.005),
+        (0.0, 0.05, 0.0025),
+    ] {
+        let set = hollow_sphere_polar(c, r_in, r_out, dp).unwrap();
+        assert_eq!(set.spacing(), Some(dp));
+        let exact = 4.0 / 3.0 * PI * (r_out.powi(3) - r_in.powi(3));
+        assert!(
+            rel(set.total_volume(), exact) < 1e-10,
+            "{r_in}/{r_out} dp {dp}: {} vs {exact}",
+            set.total_volume()
+        );
+        let nr = ((r_out - r_in) / dp).round();
+        let dr = (r_out - r_in) / nr;
+        // The outer layer is one sphere of radius r_out − dr/2 (to round-off): no staircase.
+        for &i in &set.tagged("outer").unwrap() {
+            let r = (set.positions()[i as usize] - c).length();
+            assert!(
+                (r - (r_out - 0.5 * dr)).abs() < 1e-12 * r_out,
+                "outer r {r}"
+            );
+        }
+        // Particle count ≈ shell volume / dp³ (the layers hold round(4π r²/dp²) points): 2 %.
+        let n_expected = exact / (dp * dp * dp) * (dp / dr);
+        assert!(
+            (set.len() as f64 / n_expected - 1.0).abs() < 0.02,
+            "{} particles vs {n_expected}",
+            set.len()
+        );
+    }
+}
+
+#[test]
+fn hollow_sphere_polar_is_evenly_spaced_and_balanced() {
+    // The colliding balls of the UL paper (§6.4) at dp = 0.002 and a solid ball (Hertz case).
+    for (r_in, r_out, dp) in [(0.03, 0.04, 0.002), (0.0, 0.05, 0.005)] {
+        let set = hollow_sphere_polar(DVec3::ZERO, r_in, r_out, dp).unwrap();
+        let d = nearest_distances::<D3>(set.positions(), 2.0 * dp).unwrap();
+        let (mean, sd, min, max) = stats(&d);
+        eprintln!(
+            "hollow_sphere_polar {r_in}/{r_out} dp {dp}: {} particles, nearest distance / dp: \
+             mean {:.3} sd {:.3} min {:.3} max {:.3}",
+            set.len(),
+            mean / dp,
+            sd / dp,
+            min / dp,
+            max / dp
+        );
+        // Measured: mean 0.96/0.95 dp, sd 0.016 dp, min 0.87 dp, max 1.00 dp. Bounds with
+        // margin: no pair closer than 0.8 dp, none farther than 1.1 dp, spread below 0.03 dp.
+        assert!(min > 0.8 * dp && max < 1.1 * dp && sd < 0.03 * dp);
+        // Balanced: the volume-weighted centroid sits at the centre (z exactly by the ±z
+        // pairs; x, y to a small fraction of dp).
+        let centroid = set
+            .positions()
+            .iter()
+            .zip(set.volumes())
+            .fold(DVec3::ZERO, |s, (&x, &v)| s + x * v)
+            / set.total_volume();
+        assert!(centroid.z.abs() < 1e-12 * r_out, "{centroid:?}");
+        assert!(centroid.length() < 0.05 * dp, "{centroid:?}");
+    }
+    // The lattice cut of the same shell has a staircase surface: its outermost particles
+    // spread over ≈ dp in radius; the layered one has none (checked exactly above).
+    let (r_in, r_out, dp) = (0.03, 0.04, 0.002);
+    let cut = hollow_sphere(DVec3::ZERO, r_in, r_out, dp).unwrap();
+    let outer: Vec<f64> = cut
+        .positions()
+        .iter()
+        .map(|x| x.length())
+        .filter(|&r| r > r_out - dp)
+        .collect();
+    let (_, _, lo, hi) = stats(&outer);
+    assert!(hi - lo > 0.5 * dp, "lattice surface spread {}", hi - lo);
+}
+
 /// Issue 14 item 3: a ring of `outer_radius = 1e300` (a count beyond every integer) and a lattice
 /// fill far beyond the budget stop with `TooManyParticles` before allocating, not with a
 /// capacity-overflow panic or an allocation abort; within the budget nothing changes.
@@ -527,6 +620,9 @@ fn generators_refuse_counts_beyond_the_budget_before_allocating() {
         too_many(
             tube_polar(v3(0.0, 0.0, 0.0), v3(0.0, 0.0, 1.0), 0.0, 1.0, 1e300, 0.1).unwrap_err(),
         );
+        let (what, _) =
+            too_many(hollow_sphere_polar(v3(0.0, 0.0, 0.0), 0.0, 1e300, 0.5).unwrap_err());
+        assert!(what.contains("hollow_sphere_polar"), "{what}");
     });
     // 1,000 2D particles' worth of memory: a 100 × 100 square (10,000) does not fit; the error
     // comes after at most 1,000 kept points, with the estimate of the whole fill.
@@ -562,6 +658,10 @@ fn generators_refuse_counts_beyond_the_budget_before_allocating() {
         || {
             too_many(hollow_sphere(v3(0.0, 0.0, 0.0), 0.0, 1.0, 0.01).unwrap_err());
             assert!(hollow_sphere(v3(0.0, 0.0, 0.0), 0.0, 1.0, 0.25).is_ok());
+            too_many(hollow_sphere_polar(v3(0.0, 0.0, 0.0), 0.0, 1.0, 0.01).unwrap_err());
+            // The tetrahedron and round(4π r²/dp²) per layer: 4 + 28 + 79 + 154 = 265 particles at
+            // dp = 0.25 fit beside the lattice ball above.
+            assert!(hollow_sphere_polar(v3(0.0, 0.0, 0.0), 0.0, 1.0, 0.25).is_ok());
         },
     );
 }

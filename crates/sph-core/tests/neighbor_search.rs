@@ -304,3 +304,23 @@ fn lists_are_identical_for_one_and_two_threads() {
     };
     assert_eq!(run(1), run(2));
 }
+
+#[test]
+fn components_count_the_pieces_of_a_broken_body() {
+    // Two rows of 5 points 1 apart, 3 apart from each other, plus a lone point: with cut-off
+    // 1.5 the rows are two chains and the lone point a third piece; with cut-off 3.5 one piece.
+    let mut x: Vec<DVec2> = (0..5).map(|i| DVec2::new(i as f64, 0.0)).collect();
+    x.extend((0..5).map(|i| DVec2::new(i as f64, 3.0)));
+    x.push(DVec2::new(20.0, 20.0));
+    let list = |rc: f64| {
+        CellGrid::<D2>::build(&x, rc)
+            .unwrap()
+            .neighbor_list(&x, rc)
+            .unwrap()
+    };
+    let (labels, count) = list(1.5).components();
+    assert_eq!(count, 3);
+    assert_eq!(labels, [0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 2]);
+    let (_, count) = list(3.5).components();
+    assert_eq!(count, 2);
+}

@@ -20,7 +20,7 @@ use crate::run::MonitorSample;
 use serde_json::{Map, Value as Json};
 use sph_core::disorder::DisorderStats;
 use sph_core::state::fnv1a64;
-use sph_core::{StateReader, StateWriter};
+use sph_core::{EnergyBudget, StateReader, StateWriter};
 use sph_output::safety::TempFile;
 use sph_output::{Dataset, DatasetData};
 use std::path::{Path, PathBuf};
@@ -124,6 +124,70 @@ pub struct DriverState {
     pub monitor: Vec<MonitorSample>,
     /// Snapshots written so far (all of them: the results file is re-created on resume).
     pub snapshots: Vec<SavedSnapshot>,
+    /// The monitor samples' energy budgets as read from a checkpoint, until the restored
+    /// solver supplies the budget's term names ([`PendingBudgets::resolve`]).
+    pub pending_budgets: Option<PendingBudgets>,
+}
+
+/// Energy budgets of the monitor samples read back from a checkpoint: values in the order of
+/// the budget's terms, then its notes, then the initial total, per sample that had one.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PendingBudgets {
+    /// The names of the terms and notes, comma-separated, as written.
+    pub names: String,
+    /// Number of terms (the notes follow).
+    pub terms: usize,
+    /// Number of notes.
+    pub notes: usize,
+    /// Which samples had a budget.
+    pub present: Vec<bool>,
+    /// The values, `terms + notes + 1` per sample that had a budget.
+    pub values: Vec<f64>,
+}
+
+impl PendingBudgets {
+    /// Puts the budgets into `monitor`, with the term names of `template` (the restored
+    /// solver's budget), which must be the ones written.
+    ///
+    /// # Errors
+    /// The solver keeps no budget, or another one than the checkpoint's.
+    pub fn resolve(
+        &self,
+        template: Option<EnergyBudget>,
+        monitor: &mut [MonitorSample],
+    ) -> Result<(), String> {
+        if !self.present.iter().any(|&p| p) {
+            return Ok(());
+        }
+        let t = template.ok_or("the checkpoint has an energy budget, the run keeps none")?;
+        let names: Vec<&str> = t.terms.iter().chain(&t.notes).map(|x| x.0).collect();
+        if names.join(",") != self.names || t.terms.len() != self.terms {
+            return Err(format!(
+                "the energy budget's terms differ (checkpoint: {}; run: {})",
+                self.names,
+                names.join(",")
+            ));
+        }
+        let width = self.terms + self.notes + 1;
+        let mut chunks = self.values.chunks_exact(width);
+        for (m, &present) in monitor.iter_mut().zip(&self.present) {
+            if !present {
+                continue;
+            }
+            let v = chunks.next().ok_or("energy budget values missing")?;
+            m.budget = Some(EnergyBudget {
+                terms: t.terms.iter().zip(v).map(|(a, &x)| (a.0, x)).collect(),
+                notes: t
+                    .notes
+                    .iter()
+                    .zip(&v[self.terms..])
+                    .map(|(a, &x)| (a.0, x))
+                    .collect(),
+                initial_total: v[width - 1],
+            });
+        }
+        Ok(())
+    }
 }
 
 /// A checkpoint read back and checked (header, version, checksum).
@@ -300,6 +364,42 @@ fn write_driver(w: &mut StateWriter, d: &DriverState) {
     w.f64s("monitor_disorder_mean", &col(|m| m.disorder.mean));
     w.f64s("monitor_kinetic", &col(|m| m.kinetic));
     w.f64s("monitor_strain", &col(|m| m.strain));
+    let pieces: Vec<u64> = d
+        .monitor
+        .iter()
+        .map(|m| m.pieces.map_or(u64::MAX, |p| p as u64))
+        .collect();
+    w.u64s("monitor_pieces", &pieces);
+    let budgets: Vec<&EnergyBudget> = d.monitor.iter().filter_map(|m| m.budget.as_ref()).collect();
+    let present: Vec<u64> = d
+        .monitor
+        .iter()
+        .map(|m| u64::from(m.budget.is_some()))
+        .collect();
+    w.u64s("monitor_budget_present", &present);
+    let first = budgets.first();
+    let names = first.map_or(String::new(), |b| {
+        b.terms
+            .iter()
+            .chain(&b.notes)
+            .map(|t| t.0)
+            .collect::<Vec<_>>()
+            .join(",")
+    });
+    w.str(&names);
+    let shape = first.map_or([0, 0], |b| [b.terms.len() as u64, b.notes.len() as u64]);
+    w.u64s("monitor_budget_shape", &shape);
+    let values: Vec<f64> = budgets
+        .iter()
+        .flat_map(|b| {
+            b.terms
+                .iter()
+                .chain(&b.notes)
+                .map(|t| t.1)
+                .chain(std::iter::once(b.initial_total))
+        })
+        .collect();
+    w.f64s("monitor_budget_values", &values);
     w.begin("snapshots", d.snapshots.len());
     for s in &d.snapshots {
         w.f64s("snapshot", &[s.time]);
@@ -336,8 +436,32 @@ fn read_driver(r: &mut StateReader<'_>) -> Result<DriverState, sph_core::Error> 
             },
             kinetic: kinetic[k],
             strain: strain[k],
+            budget: None,
+            pieces: None,
         })
+        .collect::<Vec<_>>();
+    let mut monitor = monitor;
+    let pieces = r.u64s("monitor_pieces", n)?;
+    for (m, &p) in monitor.iter_mut().zip(&pieces) {
+        m.pieces = (p != u64::MAX).then_some(p as usize);
+    }
+    let present: Vec<bool> = r
+        .u64s("monitor_budget_present", n)?
+        .iter()
+        .map(|&p| p != 0)
         .collect();
+    let names = r.str()?.to_string();
+    let shape = r.u64s("monitor_budget_shape", Some(2))?;
+    let (terms, notes) = (shape[0] as usize, shape[1] as usize);
+    let count = present.iter().filter(|&&p| p).count();
+    let values = r.f64s("monitor_budget_values", Some(count * (terms + notes + 1)))?;
+    let pending_budgets = Some(PendingBudgets {
+        names,
+        terms,
+        notes,
+        present,
+        values,
+    });
     let count = r.begin("snapshots", None)?;
     let mut snapshots = Vec::with_capacity(count);
     for _ in 0..count {
@@ -393,6 +517,7 @@ fn read_driver(r: &mut StateReader<'_>) -> Result<DriverState, sph_core::Error> 
         solver_seconds,
         monitor,
         snapshots,
+        pending_budgets,
     })
 }
 
@@ -439,6 +564,7 @@ mod tests {
                 step: 0,
                 datasets: vec![Dataset::f64("position", vec![1.0, 2.0, 3.0], vec![1, 3])],
             }],
+            pending_budgets: None,
         };
         let run = serde_json::json!({"case": "demo"});
         write(&path, &run, &meta, &driver, b"solver").unwrap();

@@ -7,7 +7,7 @@ use crate::checkpoint::{self, Checkpoint, CheckpointPlan, DriverState, Every, Sa
 use crate::error::DriverError;
 use serde_json::{json, Map, Value as Json};
 use sph_core::disorder::DisorderStats;
-use sph_core::{Dim, Field, Solver, StateReader, StateWriter};
+use sph_core::{Dim, EnergyBudget, Field, Solver, StateReader, StateWriter};
 use sph_output::{create_writer_with, Backend, Compression, Dataset, ResultWriter};
 use std::path::Path;
 use std::path::PathBuf;
@@ -116,7 +116,7 @@ pub struct Schedule {
 }
 
 /// One sample of the run monitor.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct MonitorSample {
     /// Simulated time.
     pub time: f64,
@@ -126,6 +126,13 @@ pub struct MonitorSample {
     pub kinetic: f64,
     /// Strain energy (NaN if the method has none).
     pub strain: f64,
+    /// The energy budget, for methods that keep one (in the summary as
+    /// `monitor.energy_budget`).
+    #[serde(skip)]
+    pub budget: Option<EnergyBudget>,
+    /// Connected pieces of the particles' neighbour graph (from the field `fragment`), for
+    /// methods that label them: a body that breaks apart adds pieces.
+    pub pieces: Option<usize>,
 }
 
 /// What a run did.
@@ -192,8 +199,30 @@ impl RunRecord {
         (e0.is_finite() && e1.is_finite() && e0 > 0.0).then(|| (e1 - e0) / e0)
     }
 
+    /// The energy-budget residual (`total − initial total`, see [`EnergyBudget`]) over the
+    /// initial total, at the last monitor sample and its largest magnitude over the samples,
+    /// where the method keeps a budget.
+    pub fn energy_residual(&self) -> Option<(f64, f64)> {
+        let rel = |b: &EnergyBudget| b.residual() / b.initial_total;
+        let last = self.monitor.last()?.budget.as_ref()?;
+        if last.initial_total.is_nan() || last.initial_total <= 0.0 {
+            return None;
+        }
+        let max = self
+            .monitor
+            .iter()
+            .filter_map(|m| m.budget.as_ref().map(rel))
+            .fold(0.0, |m: f64, r| if r.abs() > m.abs() { r } else { m });
+        Some((rel(last), max))
+    }
+
     /// The figures every case reports (issue: case, method, particles, steps, wall_seconds,
-    /// particle_steps_per_second, max_disorder, energy_drift), plus the status.
+    /// particle_steps_per_second, max_disorder, energy_drift), plus the status; for methods
+    /// with an energy budget also `energy_residual` (at the end) and `energy_residual_max`
+    /// (largest magnitude over the monitor samples), both relative to the initial total, and
+    /// the budget's terms over time under `monitor.energy_budget`; for methods that label
+    /// connected pieces (field `fragment`) `pieces_initial`, `pieces_max` and
+    /// `first_break_time` (the first monitor sample with more pieces than at the start).
     pub fn standard_summary(&self, case: &str, method: &str) -> Map<String, Json> {
         let mut m = Map::new();
         m.insert("case".into(), json!(case));
@@ -214,19 +243,66 @@ impl RunRecord {
             "energy_drift".into(),
             self.energy_drift().map_or(Json::Null, finite_or_null),
         );
+        let pieces: Vec<usize> = self.monitor.iter().filter_map(|s| s.pieces).collect();
+        if let (Some(&p0), Some(&max)) = (pieces.first(), pieces.iter().max()) {
+            m.insert("pieces_initial".into(), json!(p0));
+            m.insert("pieces_max".into(), json!(max));
+            let broke = self
+                .monitor
+                .iter()
+                .find(|s| s.pieces.is_some_and(|p| p > p0))
+                .map(|s| s.time);
+            m.insert(
+                "first_break_time".into(),
+                broke.map_or(Json::Null, |t| json!(t)),
+            );
+        }
+        if let Some((last, max)) = self.energy_residual() {
+            m.insert("energy_residual".into(), finite_or_null(last));
+            m.insert("energy_residual_max".into(), finite_or_null(max));
+        }
         m.insert("status".into(), json!(self.status()));
-        m.insert(
-            "monitor".into(),
-            json!({
-                "time": self.monitor.iter().map(|s| s.time).collect::<Vec<_>>(),
-                "disorder_max": self.monitor.iter().map(|s| finite_or_null(s.disorder.max)).collect::<Vec<_>>(),
-                "disorder_p99": self.monitor.iter().map(|s| finite_or_null(s.disorder.p99)).collect::<Vec<_>>(),
-                "kinetic_energy": self.monitor.iter().map(|s| finite_or_null(s.kinetic)).collect::<Vec<_>>(),
-                "strain_energy": self.monitor.iter().map(|s| finite_or_null(s.strain)).collect::<Vec<_>>(),
-            }),
-        );
+        let mut monitor = json!({
+            "time": self.monitor.iter().map(|s| s.time).collect::<Vec<_>>(),
+            "disorder_max": self.monitor.iter().map(|s| finite_or_null(s.disorder.max)).collect::<Vec<_>>(),
+            "disorder_p99": self.monitor.iter().map(|s| finite_or_null(s.disorder.p99)).collect::<Vec<_>>(),
+            "kinetic_energy": self.monitor.iter().map(|s| finite_or_null(s.kinetic)).collect::<Vec<_>>(),
+            "strain_energy": self.monitor.iter().map(|s| finite_or_null(s.strain)).collect::<Vec<_>>(),
+        });
+        if self.monitor.iter().any(|s| s.pieces.is_some()) {
+            monitor["pieces"] = json!(self.monitor.iter().map(|s| s.pieces).collect::<Vec<_>>());
+        }
+        if let Some(budget) = budget_series(&self.monitor) {
+            monitor["energy_budget"] = budget;
+        }
+        m.insert("monitor".into(), monitor);
         m
     }
+}
+
+/// The budget's terms and notes over the monitor samples, `{name: [values]}` plus `residual`,
+/// when every sample has a budget.
+fn budget_series(samples: &[MonitorSample]) -> Option<Json> {
+    let budgets: Vec<&EnergyBudget> = samples
+        .iter()
+        .map(|s| s.budget.as_ref())
+        .collect::<Option<_>>()?;
+    let first = budgets.first()?;
+    let mut out = Map::new();
+    for &(name, _) in first.terms.iter().chain(&first.notes) {
+        let v: Vec<Json> = budgets
+            .iter()
+            .map(|b| b.get(name).map_or(Json::Null, finite_or_null))
+            .collect();
+        out.insert(name.into(), Json::Array(v));
+    }
+    let residual: Vec<Json> = budgets
+        .iter()
+        .map(|b| finite_or_null(b.residual()))
+        .collect();
+    out.insert("residual".into(), Json::Array(residual));
+    out.insert("initial_total".into(), finite_or_null(first.initial_total));
+    Some(Json::Object(out))
 }
 
 /// `SIGINT`, `SIGTERM`, … for the signals a run is stopped with; `signal N` otherwise.
@@ -382,6 +458,7 @@ pub fn drive<D: Dim>(
                 solver_seconds: record.solver_seconds,
                 monitor: record.monitor.clone(),
                 snapshots: std::mem::take(&mut kept),
+                pending_budgets: None,
             };
             let written = write_checkpoint(solver, plan, &meta, &state);
             kept = state.snapshots;
@@ -473,7 +550,13 @@ fn restore<D: Dim>(
     if !input.is_at_end() {
         return Err(fail("bytes left after the solver state".into()));
     }
-    Ok(checkpoint.driver.clone())
+    let mut driver = checkpoint.driver.clone();
+    if let Some(pending) = driver.pending_budgets.take() {
+        pending
+            .resolve(solver.energy_budget(), &mut driver.monitor)
+            .map_err(fail)?;
+    }
+    Ok(driver)
 }
 
 fn write_checkpoint<D: Dim>(
@@ -628,11 +711,17 @@ fn sample<D: Dim>(solver: &dyn Solver<D>) -> MonitorSample {
         _ => DisorderStats::default(),
     };
     let (kinetic, strain) = solver.energies().unwrap_or((f64::NAN, f64::NAN));
+    let pieces = match solver.field("fragment") {
+        Some(Field::Scalar(v)) => Some(v.iter().fold(0.0f64, |m, &x| m.max(x)) as usize + 1),
+        _ => None,
+    };
     MonitorSample {
         time: solver.time(),
         disorder,
         kinetic,
         strain,
+        budget: solver.energy_budget(),
+        pieces,
     }
 }
 

@@ -23,9 +23,15 @@
 //! at every rebuild ([`UlSolver::original_index`] maps back to the input order).
 //!
 //! Separate bodies: [`UlSolver::with_contact`] splits the particles into bodies that keep their
-//! own neighbours and meet through docs/methods.md's contact pressure (repulsive, antisymmetric per
-//! pair, so momentum is conserved). Without it every particle belongs to one body, and colliding
-//! parts of one material meet through the ordinary neighbour search, as Gray et al. did.
+//! own neighbours and meet through docs/methods.md's contact pressure ([`contact`]: repulsive,
+//! antisymmetric per pair, so momentum is conserved; the contact force on each body is
+//! recorded as a series). Without it every particle belongs to one body, and colliding parts of
+//! one material meet through the ordinary neighbour search, as Gray et al. did.
+//!
+//! Energy: [`UlSolver::energy`] gives the stored energies; the energy budget ([`energy`],
+//! `Solver::energy_budget`) adds the work of the Riemann dissipation, the pressure jump's
+//! density diffusion, OAS's artificial stress, loads and contact, accumulated per acoustic step,
+//! so that its residual measures what the scheme leaves unaccounted.
 //!
 //! Loops are gathers over each particle's own neighbours, parallel with rayon, so results do not
 //! depend on the thread schedule. Acoustic sub-steps allocate only small scratch (the row
@@ -54,13 +60,18 @@
 #![deny(missing_docs)]
 
 pub mod artificial_stress;
+pub mod contact;
+pub mod energy;
 pub mod nested;
 pub mod non_nested;
 pub mod riemann;
+pub mod shear;
 pub mod solver;
 pub mod stepping;
 
+pub use energy::{AccumulatedWork, Energy};
 pub use non_nested::LaplacianForm;
 pub use riemann::RiemannScheme;
-pub use solver::{Energy, Shear, UlParams, UlSolver};
+pub use shear::Shear;
+pub use solver::{UlParams, UlSolver};
 pub use stepping::Stepping;

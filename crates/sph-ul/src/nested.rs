@@ -2,7 +2,9 @@
 //! matrix of eq 26–27 by default), the Jaumann rate of the shear stress (eq 6–8) and the
 //! divergence of the shear stress (eq 13).
 
+use crate::shear::ShearForce;
 use sph_core::Dim;
+use sph_core::PairKernel;
 
 /// Pair contribution to the velocity gradient, eq. (14)/(26) of the UL paper before the
 /// correction matrix: `(v_j − v_i) ⊗ ∇_i W_ij V_j = −v_ij ⊗ (W′ e_ij) V_j`.
@@ -51,6 +53,31 @@ pub fn shear_pair_acceleration<D: Dim>(
 #[inline]
 pub fn shear_energy<D: Dim>(tau: D::Matrix, volume: f64, shear_modulus: f64) -> f64 {
     volume * D::ddot(tau, tau) / (4.0 * shear_modulus)
+}
+
+/// OG's shear term of the force gather: eq. (13) with the tracked `τ`.
+pub(crate) struct NestedShear<'a, D: Dim> {
+    pub tau: &'a [D::Matrix],
+}
+
+impl<D: Dim> ShearForce<D> for NestedShear<'_, D> {
+    #[inline(always)]
+    fn pair(
+        &self,
+        i: usize,
+        j: usize,
+        pk: &PairKernel<D>,
+        vj_rho_i: f64,
+    ) -> (D::Vector, D::Vector) {
+        (
+            shear_pair_acceleration::<D>(self.tau[i], self.tau[j], pk.e, pk.dw, vj_rho_i),
+            D::zero(),
+        )
+    }
+    #[inline(always)]
+    fn particle(&self, _i: usize) -> D::Vector {
+        D::zero()
+    }
 }
 
 #[cfg(test)]

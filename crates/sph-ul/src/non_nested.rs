@@ -2,8 +2,10 @@
 //! acceleration is the time integral of `(G/ρ) ∇²v`, with the Laplacian in the angular-momentum
 //! conservative form of eq 19 (or the non-conservative eq 18, to reproduce Fig. 7).
 
+use crate::shear::ShearForce;
 use serde::{Deserialize, Serialize};
 use sph_core::Dim;
+use sph_core::PairKernel;
 
 /// Which discrete Laplacian of the velocity feeds the shear acceleration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -60,4 +62,26 @@ pub fn shear_acceleration_rate<D: Dim>(
     rho_i: f64,
 ) -> D::Vector {
     pair_sum * (2.0 * factor * shear_modulus / rho_i)
+}
+
+/// ENOG's shear term of the force gather: the accumulated `A_s` of the previous step (eq 20).
+pub(crate) struct AccumulatedShear<'a, D: Dim> {
+    pub a_s: &'a [D::Vector],
+}
+
+impl<D: Dim> ShearForce<D> for AccumulatedShear<'_, D> {
+    #[inline(always)]
+    fn pair(
+        &self,
+        _i: usize,
+        _j: usize,
+        _pk: &PairKernel<D>,
+        _vj_rho_i: f64,
+    ) -> (D::Vector, D::Vector) {
+        (D::zero(), D::zero())
+    }
+    #[inline(always)]
+    fn particle(&self, i: usize) -> D::Vector {
+        self.a_s[i]
+    }
 }

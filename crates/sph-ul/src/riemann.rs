@@ -45,8 +45,8 @@ pub fn limiter(u_ij: f64, c0: f64) -> f64 {
 }
 
 /// Interface pressure `P*` of eq. (12) of the UL paper:
-/// `P* = ½(p_i + p_j) − ½ β ρ0 c0 u_ij`, with `β` from [`limiter`] (or `β = 1` for
-/// [`RiemannScheme::SphinxsysTests`]). Approaching pairs (`u_ij < 0`) get `P* ≥ p̄`.
+/// `P* = ½(p_i + p_j) − ½ β ρ0 c0 u_ij`, with the dissipative part from
+/// [`dissipative_pressure`]. Approaching pairs (`u_ij < 0`) get `P* ≥ p̄`.
 #[inline(always)]
 pub fn interface_pressure(
     p_i: f64,
@@ -56,11 +56,20 @@ pub fn interface_pressure(
     c0: f64,
     scheme: RiemannScheme,
 ) -> f64 {
+    0.5 * (p_i + p_j) + dissipative_pressure(u_ij, rho0, c0, scheme)
+}
+
+/// The dissipative part of the interface pressure of eq. (12) of the UL paper,
+/// `−½ β ρ0 c0 u_ij`, with `β` from [`limiter`] (or `β = 1` for
+/// [`RiemannScheme::SphinxsysTests`]). Its pair power `∝ β u_ij² W′ ≤ 0`: it only removes
+/// energy (the energy budget accumulates its work as "dissipated").
+#[inline(always)]
+pub fn dissipative_pressure(u_ij: f64, rho0: f64, c0: f64, scheme: RiemannScheme) -> f64 {
     let beta = match scheme {
         RiemannScheme::Paper | RiemannScheme::LimitedNoJump => limiter(u_ij, c0),
         RiemannScheme::SphinxsysTests => 1.0,
     };
-    0.5 * (p_i + p_j) - 0.5 * beta * rho0 * c0 * u_ij
+    -0.5 * beta * rho0 * c0 * u_ij
 }
 
 /// Pressure acceleration of one pair, eq. (12) of the UL paper:
@@ -73,13 +82,22 @@ pub fn pressure_pair_factor(p_star: f64, dw: f64, v_j_over_rho_i: f64) -> f64 {
 
 /// Pair term of the continuity equation, eq. (11) of the UL paper in the form of docs/methods.md:
 /// `dρ_i/dt = ρ_i Σ_j [u_ij + (p_i − p_j)/(ρ0 c0)] W′_ij V_j`. Returns the bracket; the
-/// pressure jump (a pressure excess at `i` slows its density growth) is dropped for
-/// [`RiemannScheme::SphinxsysTests`].
+/// pressure jump ([`continuity_jump`]: a pressure excess at `i` slows its density growth) is
+/// dropped for [`RiemannScheme::SphinxsysTests`] and [`RiemannScheme::LimitedNoJump`].
 #[inline(always)]
 pub fn continuity_pair(u_ij: f64, p_i: f64, p_j: f64, rho0_c0: f64, scheme: RiemannScheme) -> f64 {
+    u_ij + continuity_jump(p_i, p_j, rho0_c0, scheme)
+}
+
+/// The pressure-jump part of [`continuity_pair`], `(p_i − p_j)/(ρ0 c0)` for
+/// [`RiemannScheme::Paper`], else 0. It changes the density without motion (a diffusion of
+/// density); its effect on the volumetric energy, `Σ_pairs V_i V_j W′ (p_i − p_j)²/(ρ0 c0) ≤ 0`,
+/// is a loss the energy budget accumulates as "diffused".
+#[inline(always)]
+pub fn continuity_jump(p_i: f64, p_j: f64, rho0_c0: f64, scheme: RiemannScheme) -> f64 {
     match scheme {
-        RiemannScheme::Paper => u_ij + (p_i - p_j) / rho0_c0,
-        RiemannScheme::SphinxsysTests | RiemannScheme::LimitedNoJump => u_ij,
+        RiemannScheme::Paper => (p_i - p_j) / rho0_c0,
+        RiemannScheme::SphinxsysTests | RiemannScheme::LimitedNoJump => 0.0,
     }
 }
 

@@ -6,8 +6,10 @@
 //!    previous step;
 //! 2. eq 4: pressure from the half-step density; forces: Riemann pressure (eq 12) plus the
 //!    variant's shear acceleration (OG: eq 13; OAS: eq 13 plus the artificial stress; ENOG: the
-//!    accumulated `A_s` of the previous step, eq 20 note); loads; constraints;
-//! 3. eq 24: `v^{n+1} = v^n + Δt a`; velocity constraints at the new time;
+//!    accumulated `A_s` of the previous step, eq 20 note), contact between bodies
+//!    ([`crate::contact`]); loads; constraints;
+//! 3. eq 24: `v^{n+1} = v^n + Δt a` (with the energy budget, the work of the tracked force parts
+//!    is accumulated first, see [`crate::energy`]); velocity constraints at the new time;
 //! 4. rates with `v^{n+1}`: continuity (eq 11), the Jaumann rate of `τ` (eq 6–8 with the velocity
 //!    gradient of eq 14/26) and, for ENOG, the Laplacian sum of eq 19 (or 18);
 //! 5. eq 25: `x`, `ρ`, `τ` to the full step; then the ENOG accumulation
@@ -20,99 +22,38 @@
 //! the current densities. Every pair term is antisymmetric in `(i, j)` at one instant, so linear
 //! momentum is conserved to round-off by every variant.
 
-use crate::artificial_stress::{self, artificial_pair_acceleration};
-use crate::nested::{jaumann_rate, shear_energy, shear_pair_acceleration, velocity_gradient_pair};
+use crate::artificial_stress::{self, ArtificialShear};
+use crate::contact::Contact;
+use crate::energy::{step_works, ul_budget, AccumulatedWork, Energy};
+use crate::nested::{jaumann_rate, shear_energy, velocity_gradient_pair, NestedShear};
 use crate::non_nested::{
     conservative_laplacian_pair, default_zeta, non_conservative_laplacian_pair,
-    shear_acceleration_rate, LaplacianForm,
+    shear_acceleration_rate, AccumulatedShear, LaplacianForm,
 };
 use crate::riemann::{
-    continuity_pair, interface_pressure, pressure, pressure_energy, pressure_pair_factor,
+    continuity_jump, dissipative_pressure, pressure, pressure_energy, pressure_pair_factor,
     RiemannScheme,
 };
+use crate::shear::{Shear, ShearForce};
 use crate::stepping::{acoustic_dt, advection_dt, next_substep, Stepping};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
 use sph_core::diagnostics;
 use sph_core::disorder::{affine_fit, disorder_indicator};
-use sph_core::error::{check_non_negative, check_positive};
+use sph_core::error::check_positive;
 use sph_core::neighbor::{apply_permutation, invert_permutation};
 use sph_core::pairs::{fill_pair_kernels, pair_kernels};
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
-use sph_core::state::{restore_probes, save_probes, StateReader, StateWriter};
+use sph_core::state::{
+    restore_probes, restore_series, save_probes, save_series, StateReader, StateWriter,
+};
 use sph_core::{
-    Body, CellGrid, Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe,
-    Solver, StepInfo, WendlandC2,
+    Body, CellGrid, Constraints, Dim, EnergyBudget, Error, Field, Kernel, Loads, NeighborList,
+    PairKernel, Probe, Series, Solver, StepInfo, WendlandC2,
 };
 use sph_materials::{von_mises, ElasticConstants};
-
-/// The shear treatment, fixed when the body is built (hoisted out of the inner loops).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "kebab-case")]
-pub enum Shear {
-    /// SPH-OG: nested shear stress (eq 6–8, 13–14).
-    Original,
-    /// SPH-OAS: OG plus the Gray–Monaghan–Swift artificial stress.
-    ArtificialStress {
-        /// Strength `ε` (0.3).
-        epsilon: f64,
-        /// Exponent `n` of `f_ij^n` (4).
-        n: u32,
-    },
-    /// SPH-ENOG: shear acceleration from the Laplacian of velocity (eq 19–20).
-    NonNested {
-        /// `ζ` of eq 19–20; `None` = the paper's `0.7 d + 2.1`.
-        zeta: Option<f64>,
-        /// Eq 19 (default) or the non-conservative eq 18.
-        form: LaplacianForm,
-    },
-}
-
-impl Shear {
-    /// OAS with `ε = 0.3`, `n = 4`.
-    pub fn artificial_stress() -> Self {
-        Shear::ArtificialStress {
-            epsilon: artificial_stress::DEFAULT_EPSILON,
-            n: artificial_stress::DEFAULT_EXPONENT,
-        }
-    }
-
-    /// ENOG with the paper's `ζ = 0.7 d + 2.1` and the conservative eq 19.
-    pub fn non_nested() -> Self {
-        Shear::NonNested {
-            zeta: None,
-            form: LaplacianForm::Conservative,
-        }
-    }
-
-    /// The method name as the command line spells it.
-    pub fn method_name(&self) -> &'static str {
-        match self {
-            Shear::Original => "ul-og",
-            Shear::ArtificialStress { .. } => "ul-oas",
-            Shear::NonNested { .. } => "ul-enog",
-        }
-    }
-
-    fn validate(&self) -> Result<(), Error> {
-        match *self {
-            Shear::Original => Ok(()),
-            Shear::ArtificialStress { epsilon, n } => {
-                check_non_negative("epsilon", epsilon)?;
-                if n == 0 || n > 16 {
-                    return Err(Error::invalid("n", n, "1..=16"));
-                }
-                Ok(())
-            }
-            Shear::NonNested { zeta, .. } => match zeta {
-                Some(z) => check_positive("zeta", z),
-                None => Ok(()),
-            },
-        }
-    }
-}
 
 /// Numerical parameters (defaults: UL paper §5–6).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -159,6 +100,18 @@ pub struct UlParams {
     /// counting them ([`UlSolver::isolated_max`]), instead of stopping with
     /// `Error::LostNeighbours` (default false).
     pub allow_isolated: bool,
+    /// Scale `κ` of the contact pressure between bodies, `p_c = κ c0² ρ_c` (1: docs/methods.md; see
+    /// [`crate::contact`]). Only used with [`UlSolver::with_contact`].
+    pub contact_scale: f64,
+    /// Keep the energy budget ([`UlSolver::energy_budget`]): the force gather also sums the
+    /// dissipative part of the Riemann pressure (and OAS's artificial stress) per particle,
+    /// and every acoustic step accumulates the work of those parts, of contact, of ENOG's
+    /// `A_s` and of loads (default true). Measured cost (CPU time, one thread, median of 3,
+    /// taken on a loaded machine): +7 % on the 2D rings with ENOG (`sph run colliding-rings-2d
+    /// --method ul-enog --threads 1 --set end_time=0.01 --set energy_budget=true|false`),
+    /// +2 % on the 3D balls with OG (`colliding-balls-3d --method ul-og --set dp=0.0025
+    /// --set end_time=0.002`).
+    pub energy_budget: bool,
 }
 
 impl Default for UlParams {
@@ -176,25 +129,9 @@ impl Default for UlParams {
             correction_min_eigenvalue: DEFAULT_MIN_EIGENVALUE,
             allow_isolated: false,
             refresh_kernel_data: true,
+            contact_scale: 1.0,
+            energy_budget: true,
         }
-    }
-}
-
-/// Kinetic and elastic energy of the body.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Energy {
-    /// `Σ ½ m v²`.
-    pub kinetic: f64,
-    /// Energy of the equation of state, `Σ m c0² (ln(ρ/ρ0) + ρ0/ρ − 1)`.
-    pub volumetric: f64,
-    /// Shear energy `Σ V τ:τ/(4G)` (for ENOG from the output shear stress: an estimate).
-    pub shear: f64,
-}
-
-impl Energy {
-    /// Kinetic plus elastic energy.
-    pub fn total(&self) -> f64 {
-        self.kinetic + self.volumetric + self.shear
     }
 }
 
@@ -211,6 +148,8 @@ enum Variant {
 struct Rates<D: Dim> {
     /// `dρ/dt` (eq 11).
     density: f64,
+    /// The pressure-jump part of `dρ/dt` (the paper's Riemann scheme only).
+    density_jump: f64,
     /// `dτ/dt` (eq 6–8).
     stress: D::Matrix,
     /// ENOG: `dA_s/dt` (eq 20).
@@ -221,6 +160,7 @@ impl<D: Dim> Rates<D> {
     fn zero() -> Self {
         Self {
             density: 0.0,
+            density_jump: 0.0,
             stress: D::zero_matrix(),
             shear: D::zero(),
         }
@@ -258,14 +198,20 @@ pub struct UlSolver<D: Dim> {
     correction: Vec<D::Matrix>,
     guarded: usize,
     rebuild_positions: Vec<D::Vector>,
-    // Contact between bodies (empty `body` = one body): body id per particle, the inter-body
-    // pairs of the last rebuild with their kernel data (current positions), W(dp), and the
-    // contact densities.
-    body: Vec<u32>,
-    contact_list: NeighborList,
-    contact_pairs: Vec<PairKernel<D>>,
-    contact_w_dp: f64,
-    contact_density: Vec<f64>,
+    /// Contact between bodies (`None`: one body).
+    contact: Option<Contact<D>>,
+    /// Contact force on each body, recorded with the probes.
+    series: Vec<Series>,
+    // Energy budget: work accumulated since t = 0, the total at t = 0, and per particle the
+    // Riemann-dissipation and artificial-stress accelerations of the last force evaluation
+    // and the load accelerations.
+    work: AccumulatedWork,
+    initial_total: f64,
+    // Momentum balance: Σ m v at t = 0 and the impulse the constraints removed since.
+    initial_momentum: D::Vector,
+    constraint_impulse: D::Vector,
+    budget_parts: Vec<[D::Vector; 2]>,
+    load_accelerations: Vec<D::Vector>,
     // Particles without neighbours: at the last rebuild, the most at any rebuild, first time.
     isolated: usize,
     isolated_max: usize,
@@ -316,6 +262,7 @@ impl<D: Dim> UlSolver<D> {
             "correction_min_eigenvalue",
             params.correction_min_eigenvalue,
         )?;
+        check_positive("contact_scale", params.contact_scale)?;
         shear.validate()?;
         let n = body.len();
         check_per_particle("densities", &body.densities, n, true)?;
@@ -378,11 +325,18 @@ impl<D: Dim> UlSolver<D> {
             correction: vec![D::identity(); n],
             guarded: 0,
             rebuild_positions: Vec::new(),
-            body: Vec::new(),
-            contact_list: NeighborList::default(),
-            contact_pairs: Vec::new(),
-            contact_w_dp: 0.0,
-            contact_density: Vec::new(),
+            contact: None,
+            series: Vec::new(),
+            work: AccumulatedWork::default(),
+            initial_total: 0.0,
+            initial_momentum: D::zero(),
+            constraint_impulse: D::zero(),
+            budget_parts: if params.energy_budget {
+                vec![[D::zero(); 2]; n]
+            } else {
+                Vec::new()
+            },
+            load_accelerations: Vec::new(),
             isolated: 0,
             isolated_max: 0,
             first_isolation: None,
@@ -417,6 +371,7 @@ impl<D: Dim> UlSolver<D> {
             });
         }
         solver.refresh_rates();
+        solver.reset_budget();
         Ok(solver)
     }
 
@@ -432,6 +387,7 @@ impl<D: Dim> UlSolver<D> {
             .collect();
         self.constraints = constraints;
         self.refresh_rates();
+        self.reset_budget();
         self
     }
 
@@ -439,17 +395,22 @@ impl<D: Dim> UlSolver<D> {
     pub fn with_loads(mut self, mut loads: Loads<D>) -> Self {
         loads.remap(&self.inverse_index());
         self.loads = loads;
+        if self.params.energy_budget {
+            self.load_accelerations = vec![D::zero(); self.len()];
+        }
         self
     }
 
     /// Makes the particles separate bodies (`body_of[i]` for input particle `i`) that meet
-    /// through contact (docs/methods.md, SPHinXsys): each body keeps its own neighbours (pressure,
-    /// shear, continuity and `B` see only the own body), and particles of different bodies
-    /// closer than the kernel support push each other apart with the contact pressure
-    /// `p_c = c0² ρ_c`, `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,
-    /// `a_i −= (2/m_i) Σ_j ½(p_c,i + p_c,j) V_i V_j W′_ij e_ij` — antisymmetric per pair, so
-    /// momentum is conserved; repulsive only (bodies separate freely). The contact energy is
-    /// not part of [`UlSolver::energy`].
+    /// through contact (docs/methods.md, SPHinXsys; see [`crate::contact`]): each body keeps
+    /// its own neighbours (pressure, shear, continuity and `B` see only the own body), and
+    /// particles of different bodies closer than the kernel support push each other apart with
+    /// the contact pressure `p_c = κ c0² ρ_c`, `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,
+    /// `a_i −= (2/m_i) Σ_j ½(p_c,i + p_c,j) V_i V_j W′_ij e_ij` (`κ` =
+    /// [`UlParams::contact_scale`]) — antisymmetric per pair, so momentum is conserved;
+    /// repulsive only (bodies separate freely). The contact force on each body is recorded
+    /// with the probes as the series `contact_force_<body>` with columns `x`, `y` (, `z`)
+    /// ([`Solver::series`]).
     ///
     /// # Errors
     /// `body_of` not one entry per particle.
@@ -462,21 +423,38 @@ impl<D: Dim> UlSolver<D> {
                 &format!("one body id per particle ({n})"),
             ));
         }
-        self.body = self
+        let body = self
             .original_index
             .iter()
             .map(|&o| body_of[o as usize])
             .collect();
         let dp = self.kernel.h() / self.params.h_over_dp;
-        self.contact_w_dp = self.kernel.w(dp);
-        self.contact_density = vec![0.0; n];
+        let contact = Contact::new(body, self.kernel.w(dp), self.params.contact_scale, self.c0);
+        self.series = (0..contact.bodies)
+            .map(|b| Series::new(&format!("contact_force_{b}"), &AXES[..D::D]))
+            .collect();
+        self.contact = Some(contact);
         self.rebuild()?;
         self.refresh_rates();
+        self.reset_budget();
         Ok(self)
     }
 
+    /// Sets the budget's reference total to the current energies (while at `t = 0`).
+    fn reset_budget(&mut self) {
+        if self.steps == 0 {
+            self.work = AccumulatedWork::default();
+            self.initial_total = 0.0;
+            self.initial_total = self.energy_budget_now().total();
+            self.initial_momentum = self.linear_momentum();
+            self.constraint_impulse = D::zero();
+        }
+    }
+
     /// Attaches probes (indices in the original order), recorded at `t = 0` and then every
-    /// `interval` of simulated time (0 = every step).
+    /// `interval` of simulated time (0 = every acoustic step), at the first acoustic sub-step
+    /// that reaches each sample time (so the samples resolve times shorter than an advection
+    /// step). The contact-force series are recorded on the same schedule.
     pub fn with_probes(mut self, mut probes: Vec<Probe<D>>, interval: f64) -> Result<Self, Error> {
         self.schedule = ProbeSchedule::every(interval)?;
         let inv = self.inverse_index();
@@ -484,6 +462,9 @@ impl<D: Dim> UlSolver<D> {
             p.remap(&inv);
         }
         self.probes = probes;
+        for s in &mut self.series {
+            *s = Series::new(&s.name, &AXES[..D::D]);
+        }
         if self.schedule.due(self.time) {
             self.record_probes();
         }
@@ -510,8 +491,8 @@ impl<D: Dim> UlSolver<D> {
             }
         }
         self.list = grid.neighbor_list(&self.positions, cutoff)?;
-        if !self.body.is_empty() {
-            self.split_contact_pairs()?;
+        if let Some(contact) = &mut self.contact {
+            self.list = contact.split(&self.list)?;
         }
         let n = self.len();
         if let Some(i) = (0..n).find(|&i| self.list.count(i) == 0) {
@@ -580,80 +561,6 @@ impl<D: Dim> UlSolver<D> {
         Ok(())
     }
 
-    /// Splits the neighbour list into the own-body list (`self.list`) and the inter-body
-    /// contact list.
-    fn split_contact_pairs(&mut self) -> Result<(), Error> {
-        let n = self.len();
-        let (mut own_off, mut own_ix) = (Vec::with_capacity(n + 1), Vec::new());
-        let (mut con_off, mut con_ix) = (Vec::with_capacity(n + 1), Vec::new());
-        own_off.push(0);
-        con_off.push(0);
-        for i in 0..n {
-            for &j in self.list.neighbors(i) {
-                if self.body[j as usize] == self.body[i] {
-                    own_ix.push(j);
-                } else {
-                    con_ix.push(j);
-                }
-            }
-            own_off.push(own_ix.len());
-            con_off.push(con_ix.len());
-        }
-        self.list = NeighborList::from_parts(own_off, own_ix)?;
-        self.contact_list = NeighborList::from_parts(con_off, con_ix)?;
-        Ok(())
-    }
-
-    /// Adds the contact accelerations (see [`UlSolver::with_contact`]) to `out`, with the
-    /// kernel data of the inter-body pairs at the current positions.
-    fn add_contact_forces(&mut self, out: &mut [D::Vector]) {
-        if self.contact_list.num_pairs() == 0 {
-            return;
-        }
-        let zero = PairKernel::<D> {
-            e: D::zero(),
-            r: 0.0,
-            w: 0.0,
-            dw: 0.0,
-        };
-        self.contact_pairs
-            .resize(self.contact_list.num_pairs(), zero);
-        fill_pair_kernels(
-            &self.positions,
-            &self.positions,
-            &self.contact_list,
-            &self.kernel,
-            &mut self.contact_pairs,
-        );
-        let (list, pairs, m, w_dp) = (
-            &self.contact_list,
-            &self.contact_pairs,
-            &self.masses,
-            self.contact_w_dp,
-        );
-        gather(&mut self.contact_density, |i, rho_c| {
-            *rho_c = pairs[list.range(i)]
-                .iter()
-                .zip(list.neighbors(i))
-                .map(|(pk, &j)| (pk.w - w_dp).max(0.0) * m[j as usize])
-                .sum();
-        });
-        let c2 = self.c0 * self.c0;
-        let (rho, rho_c) = (&self.densities, &self.contact_density);
-        let mut add = vec![D::zero(); self.len()];
-        gather(&mut add, |i, a| {
-            let v_i = m[i] / rho[i];
-            let mut acc = D::zero();
-            for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
-                let j = j as usize;
-                let p_star = 0.5 * c2 * (rho_c[i] + rho_c[j]);
-                acc += pk.e * (-2.0 * p_star * v_i * (m[j] / rho[j]) * pk.dw / m[i]);
-            }
-            *a = acc;
-        });
-        out.iter_mut().zip(&add).for_each(|(o, &a)| *o += a);
-    }
-
     /// Applies `perm[new] = old` to every per-particle field and relabels the scene.
     fn permute(&mut self, perm: &[u32]) {
         fn p<T: Clone>(perm: &[u32], v: &mut Vec<T>) {
@@ -670,7 +577,9 @@ impl<D: Dim> UlSolver<D> {
         p(perm, &mut self.rates);
         p(perm, &mut self.initial_positions);
         p(perm, &mut self.original_index);
-        p(perm, &mut self.body);
+        if let Some(c) = &mut self.contact {
+            c.permute(perm);
+        }
         p(perm, &mut self.free);
         p(perm, &mut self.accelerations);
         let inv = invert_permutation(perm);
@@ -747,7 +656,7 @@ impl<D: Dim> UlSolver<D> {
         let (g, rho0_c0, scheme) = (self.g, self.rho0 * self.c0, self.params.riemann);
         gather(&mut self.rates, |i, out| {
             let (v_i, p_i, rho_i) = (x_v[i], p[i], rho[i]);
-            let mut drho = 0.0;
+            let (mut drho, mut jump) = (0.0, 0.0);
             let mut l = D::zero_matrix();
             let mut lap = D::zero();
             for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
@@ -755,7 +664,8 @@ impl<D: Dim> UlSolver<D> {
                 let v_j = vol[j];
                 let v_ij = v_i - x_v[j];
                 let u = D::dot(v_ij, pk.e);
-                drho += continuity_pair(u, p_i, p[j], rho0_c0, scheme) * pk.dw * v_j;
+                drho += u * pk.dw * v_j;
+                jump += continuity_jump(p_i, p[j], rho0_c0, scheme) * pk.dw * v_j;
                 if GRAD {
                     l += velocity_gradient_pair::<D>(v_ij, pk.e, pk.dw, v_j);
                 }
@@ -765,7 +675,9 @@ impl<D: Dim> UlSolver<D> {
                     _ => {}
                 }
             }
-            out.density = rho_i * drho;
+            // Eq 11: ρ_i Σ [u_ij + (p_i − p_j)/(ρ0 c0)] W′ V_j, the jump part kept apart.
+            out.density = rho_i * (drho + jump);
+            out.density_jump = rho_i * jump;
             if GRAD {
                 if corrected {
                     l = l * b[i];
@@ -783,8 +695,11 @@ impl<D: Dim> UlSolver<D> {
     /// constraints.
     fn compute_forces(&mut self) {
         let mut out = std::mem::take(&mut self.accelerations);
+        let mut parts = std::mem::take(&mut self.budget_parts);
         match self.variant {
-            Variant::Original => self.forces_loop(NestedShear { tau: &self.stress }, &mut out),
+            Variant::Original => {
+                self.forces_loop(NestedShear { tau: &self.stress }, &mut out, &mut parts)
+            }
             Variant::Artificial {
                 epsilon,
                 n,
@@ -808,6 +723,7 @@ impl<D: Dim> UlSolver<D> {
                         n,
                     },
                     &mut out,
+                    &mut parts,
                 );
             }
             Variant::NonNested { .. } => self.forces_loop(
@@ -815,18 +731,48 @@ impl<D: Dim> UlSolver<D> {
                     a_s: &self.accumulated,
                 },
                 &mut out,
+                &mut parts,
             ),
         }
-        if !self.body.is_empty() {
-            self.add_contact_forces(&mut out);
+        self.budget_parts = parts;
+        if let Some(contact) = &mut self.contact {
+            contact.add_accelerations(
+                &self.positions,
+                &self.masses,
+                &self.densities,
+                &self.kernel,
+                &mut out,
+            );
         }
         self.accelerations = out;
     }
 
-    /// The force gather: Riemann pressure (eq 12) plus the shear term `S`.
-    fn forces_loop<S: ShearForce<D>>(&self, shear: S, out: &mut [D::Vector]) {
-        let list = &self.list;
-        let pairs = &self.pairs;
+    /// The force gather: Riemann pressure (eq 12) plus the shear term `S`; with the energy
+    /// budget also the dissipative part of the pressure and the artificial stress per particle.
+    /// `parts` is empty when the budget is off.
+    fn forces_loop<S: ShearForce<D>>(
+        &self,
+        shear: S,
+        out: &mut [D::Vector],
+        parts: &mut [[D::Vector; 2]],
+    ) {
+        if parts.is_empty() {
+            gather(out, |i, a| *a = self.force_sum::<S, false>(&shear, i).0);
+        } else {
+            gather_pairs(out, parts, |i, a, b| {
+                (*a, *b) = self.force_sum::<S, true>(&shear, i);
+            });
+        }
+    }
+
+    /// `a_i` of [`Self::forces_loop`] and, with `BUDGET`, the Riemann-dissipation and
+    /// artificial-stress parts of it.
+    #[inline(always)]
+    fn force_sum<S: ShearForce<D>, const BUDGET: bool>(
+        &self,
+        shear: &S,
+        i: usize,
+    ) -> (D::Vector, [D::Vector; 2]) {
         let (vel, rho, vol, p) = (
             &self.velocities,
             &self.densities,
@@ -834,19 +780,27 @@ impl<D: Dim> UlSolver<D> {
             &self.pressures,
         );
         let (rho0, c0, scheme) = (self.rho0, self.c0, self.params.riemann);
-        gather(out, |i, a| {
-            let (v_i, p_i, inv_rho_i) = (vel[i], p[i], 1.0 / rho[i]);
-            let mut acc = D::zero();
-            for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
-                let j = j as usize;
-                let vj_rho_i = vol[j] * inv_rho_i;
-                let u = D::dot(v_i - vel[j], pk.e);
-                let p_star = interface_pressure(p_i, p[j], u, rho0, c0, scheme);
-                acc += pk.e * pressure_pair_factor(p_star, pk.dw, vj_rho_i);
-                acc += shear.pair(i, j, pk, vj_rho_i);
+        let (v_i, p_i, inv_rho_i) = (vel[i], p[i], 1.0 / rho[i]);
+        let mut acc = D::zero();
+        let mut parts = [D::zero(); 2];
+        for (pk, &j) in self.pairs[self.list.range(i)]
+            .iter()
+            .zip(self.list.neighbors(i))
+        {
+            let j = j as usize;
+            let vj_rho_i = vol[j] * inv_rho_i;
+            let u = D::dot(v_i - vel[j], pk.e);
+            let p_diss = dissipative_pressure(u, rho0, c0, scheme);
+            let p_star = 0.5 * (p_i + p[j]) + p_diss;
+            acc += pk.e * pressure_pair_factor(p_star, pk.dw, vj_rho_i);
+            let (elastic, artificial) = shear.pair(i, j, pk, vj_rho_i);
+            acc += elastic + artificial;
+            if BUDGET {
+                parts[0] += pk.e * pressure_pair_factor(p_diss, pk.dw, vj_rho_i);
+                parts[1] += artificial;
             }
-            *a = acc + shear.particle(i);
-        });
+        }
+        (acc + shear.particle(i), parts)
     }
 
     /// Accelerations of the current state, without loads or constraints: the force evaluation
@@ -883,11 +837,36 @@ impl<D: Dim> UlSolver<D> {
         self.update_pressures();
         self.compute_forces();
         if !self.loads.is_empty() {
-            self.loads
-                .add_accelerations(self.time + half, &self.masses, &mut self.accelerations);
+            if self.load_accelerations.is_empty() {
+                self.loads.add_accelerations(
+                    self.time + half,
+                    &self.masses,
+                    &mut self.accelerations,
+                );
+            } else {
+                self.load_accelerations
+                    .iter_mut()
+                    .for_each(|a| *a = D::zero());
+                self.loads.add_accelerations(
+                    self.time + half,
+                    &self.masses,
+                    &mut self.load_accelerations,
+                );
+                self.accelerations
+                    .iter_mut()
+                    .zip(&self.load_accelerations)
+                    .for_each(|(a, &l)| *a += l);
+            }
         }
-        self.constraints
-            .apply_to_accelerations(&mut self.accelerations);
+        if !self.constraints.is_empty() {
+            let before = self.mass_weighted_sum(&self.accelerations);
+            self.constraints
+                .apply_to_accelerations(&mut self.accelerations);
+            self.constraint_impulse += (before - self.mass_weighted_sum(&self.accelerations)) * dt;
+        }
+        if self.params.energy_budget {
+            self.accumulate_work(dt);
+        }
         // Eq 24.
         self.velocities
             .iter_mut()
@@ -908,12 +887,65 @@ impl<D: Dim> UlSolver<D> {
         }
         self.max_speed = max_norm::<D>(&self.velocities, &self.free);
         self.acoustic_steps += 1;
-        self.pair_visits += (self.list.num_pairs() + self.contact_list.num_pairs()) as u64;
+        self.pair_visits +=
+            (self.list.num_pairs() + self.contact.as_ref().map_or(0, |c| c.num_pairs())) as u64;
+    }
+
+    /// `Σ m_i a_i` (serial, deterministic).
+    fn mass_weighted_sum(&self, a: &[D::Vector]) -> D::Vector {
+        a.iter()
+            .zip(&self.masses)
+            .fold(D::zero(), |s, (&a, &m)| s + a * m)
+    }
+
+    /// Adds the work of this step's force parts to the budget (before the kick; see
+    /// [`crate::energy`]).
+    fn accumulate_work(&mut self, dt: f64) {
+        let (a, v, m) = (&self.accelerations, &self.velocities, &self.masses[..]);
+        let (parts, a_s, loads) = (
+            &self.budget_parts,
+            &self.accumulated,
+            &self.load_accelerations,
+        );
+        let contact = self.contact.as_ref().map(|c| &c.accelerations[..]);
+        let or_zero = |x: &[D::Vector], i: usize| x.get(i).copied().unwrap_or(D::zero());
+        let [riemann, artificial, contact, shear, loads] = step_works::<D, 5>(
+            |i| {
+                [
+                    parts[i][0],
+                    parts[i][1],
+                    contact.map_or(D::zero(), |c| c[i]),
+                    or_zero(a_s, i),
+                    or_zero(loads, i),
+                ]
+            },
+            a,
+            v,
+            m,
+            dt,
+        );
+        self.work.riemann += riemann;
+        self.work.artificial += artificial;
+        self.work.contact += contact;
+        self.work.shear += shear;
+        self.work.loads += loads;
     }
 
     /// `x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt` (eq 23 and 25).
     /// Element-wise, on this thread: the pool hand-off costs more than these loops.
     fn drift(&mut self, h: f64) {
+        if self.params.energy_budget && self.params.riemann == RiemannScheme::Paper {
+            // The volumetric-energy change the pressure jump makes over this drift
+            // (Σ m p/ρ² ρ̇_jump h at the start of the drift).
+            let (rho0, c0) = (self.rho0, self.c0);
+            self.work.density_jump += h * self
+                .densities
+                .iter()
+                .zip(&self.masses)
+                .zip(&self.rates)
+                .map(|((&rho, &m), r)| m * pressure(rho, rho0, c0) / (rho * rho) * r.density_jump)
+                .sum::<f64>();
+        }
         self.positions
             .iter_mut()
             .zip(&self.velocities)
@@ -928,9 +960,21 @@ impl<D: Dim> UlSolver<D> {
             .for_each(|(t, r)| *t += r.stress * h);
     }
 
+    fn record_if_due(&mut self) {
+        if (!self.probes.is_empty() || !self.series.is_empty()) && self.schedule.due(self.time) {
+            self.record_probes();
+        }
+    }
+
     fn record_probes(&mut self) {
         for p in &mut self.probes {
             p.record(self.time, &self.positions, &self.velocities);
+        }
+        if let Some(c) = &self.contact {
+            for (s, f) in self.series.iter_mut().zip(c.body_forces(&self.masses)) {
+                let row: Vec<f64> = (0..D::D).map(|k| D::component(f, k)).collect();
+                s.push(self.time, &row);
+            }
         }
     }
 
@@ -1062,6 +1106,15 @@ impl<D: Dim> UlSolver<D> {
             .fold(D::zero(), |s, (&v, &m)| s + v * m)
     }
 
+    /// The momentum balance `Σ m v − (Σ m v)(t = 0) + J_c`, with `J_c` the impulse the
+    /// constraints removed (the supports' reaction): zero up to round-off for any scene without
+    /// loads, since every internal and contact pair term is antisymmetric. (ENOG drops the
+    /// accumulated `A_s` of a particle that loses all its neighbours, which breaks the balance
+    /// by that particle's share.)
+    pub fn momentum_balance(&self) -> D::Vector {
+        self.linear_momentum() - self.initial_momentum + self.constraint_impulse
+    }
+
     /// Total angular momentum `Σ m x × v` about the origin (3-vector; only `z` in 2D).
     pub fn angular_momentum(&self) -> glam::DVec3 {
         self.positions
@@ -1102,8 +1155,30 @@ impl<D: Dim> UlSolver<D> {
         }
     }
 
-    /// The disorder indicator of docs/methods.md per particle (current order), accumulated since the
-    /// start: Ganzenmüller's error of the weighted least-squares affine fit from the initial
+    /// Work accumulated since `t = 0` by the force parts the budget tracks (zero without
+    /// [`UlParams::energy_budget`]).
+    pub fn accumulated_work(&self) -> AccumulatedWork {
+        self.work
+    }
+
+    /// The energy budget now (see [`crate::energy`]): meaningful with
+    /// [`UlParams::energy_budget`] (otherwise the accumulated work stays zero).
+    fn energy_budget_now(&self) -> EnergyBudget {
+        let contact = self.contact.as_ref().map_or(0.0, |c| {
+            c.energy(&self.positions, &self.masses, &self.kernel, self.rho0)
+        });
+        ul_budget(
+            &self.energy(),
+            contact,
+            &self.work,
+            matches!(self.variant, Variant::NonNested { .. }),
+            self.tracks_stress,
+            self.initial_total,
+        )
+    }
+
+    /// The disorder indicator of docs/methods.md per particle (current order), accumulated since
+    /// the start: Ganzenmüller's error of the weighted least-squares affine fit from the initial
     /// configuration to the current one, over the current neighbours with weights `W⁰` of the
     /// initial distances (neighbours that were not neighbours initially get `W⁰ = 0`).
     ///
@@ -1155,93 +1230,35 @@ impl<D: Dim> UlSolver<D> {
     }
 }
 
-/// The per-variant shear term of the force gather (monomorphised: no branch in the loop).
-trait ShearForce<D: Dim>: Sync {
-    /// Pair contribution to `a_i`.
-    fn pair(&self, i: usize, j: usize, pk: &PairKernel<D>, vj_rho_i: f64) -> D::Vector;
-    /// Per-particle contribution to `a_i`.
-    fn particle(&self, i: usize) -> D::Vector;
-}
-
-struct NestedShear<'a, D: Dim> {
-    tau: &'a [D::Matrix],
-}
-
-impl<D: Dim> ShearForce<D> for NestedShear<'_, D> {
-    #[inline(always)]
-    fn pair(&self, i: usize, j: usize, pk: &PairKernel<D>, vj_rho_i: f64) -> D::Vector {
-        shear_pair_acceleration::<D>(self.tau[i], self.tau[j], pk.e, pk.dw, vj_rho_i)
-    }
-    #[inline(always)]
-    fn particle(&self, _i: usize) -> D::Vector {
-        D::zero()
-    }
-}
-
-/// OAS's shear term. The artificial stress's pair factor `f_ij = W(r_ij)/W(dp)` is evaluated
-/// at the *current* distance in every acoustic sub-step, not from the kernel data frozen at the
-/// rebuild: `f_ij^n` (n = 4) is a stiff short-range repulsion, and with the distance frozen
-/// over an advection step it lags the motion and pumps energy in — measured: the plate
-/// (H/dp = 10, v_f = 0.05) blew up at t = 0.077 s and the rings at 0.07 c0 at t = 0.006 s with
-/// frozen `f`, both run through with single stepping or with the current `f`. With
-/// [`UlParams::refresh_kernel_data`] the pair data are current already.
-struct ArtificialShear<'a, D: Dim> {
-    tau: &'a [D::Matrix],
-    r: &'a [D::Matrix],
-    masses: &'a [f64],
-    /// Current positions when the kernel data are frozen (`W` recomputed here), else `None`.
-    positions: Option<&'a [D::Vector]>,
-    kernel: &'a WendlandC2<D>,
-    inv_w_dp: f64,
-    n: u32,
-}
-
-impl<D: Dim> ShearForce<D> for ArtificialShear<'_, D> {
-    #[inline(always)]
-    fn pair(&self, i: usize, j: usize, pk: &PairKernel<D>, vj_rho_i: f64) -> D::Vector {
-        let current = match self.positions {
-            Some(x) => PairKernel::<D> {
-                w: self.kernel.w(D::norm(x[i] - x[j])),
-                ..*pk
-            },
-            None => *pk,
-        };
-        shear_pair_acceleration::<D>(self.tau[i], self.tau[j], pk.e, pk.dw, vj_rho_i)
-            + artificial_pair_acceleration::<D>(
-                self.r[i],
-                self.r[j],
-                &current,
-                self.inv_w_dp,
-                self.n,
-                self.masses[j],
-            )
-    }
-    #[inline(always)]
-    fn particle(&self, _i: usize) -> D::Vector {
-        D::zero()
-    }
-}
-
-struct AccumulatedShear<'a, D: Dim> {
-    a_s: &'a [D::Vector],
-}
-
-impl<D: Dim> ShearForce<D> for AccumulatedShear<'_, D> {
-    #[inline(always)]
-    fn pair(&self, _i: usize, _j: usize, _pk: &PairKernel<D>, _vj_rho_i: f64) -> D::Vector {
-        D::zero()
-    }
-    #[inline(always)]
-    fn particle(&self, i: usize) -> D::Vector {
-        self.a_s[i]
-    }
-}
+/// Column names of the contact-force series (the force's components).
+const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// Loops over fewer particles than twice this run on the calling thread (one threshold for
 /// every method: [`sph_core::parallel`]).
 pub const PARALLEL_THRESHOLD: usize = sph_core::parallel::MIN_PARTICLES_PER_TASK;
 
-use sph_core::parallel::gather;
+pub(crate) use sph_core::parallel::gather;
+
+/// [`gather`] writing two arrays: `f(i, &mut a[i], &mut b[i])`, by the same rule.
+#[inline]
+fn gather_pairs<T: Send, U: Send>(
+    a: &mut [T],
+    b: &mut [U],
+    f: impl Fn(usize, &mut T, &mut U) + Sync + Send,
+) {
+    if sph_core::parallel::worth_splitting(a.len()) {
+        a.par_iter_mut()
+            .zip(b.par_iter_mut())
+            .with_min_len(PARALLEL_THRESHOLD)
+            .enumerate()
+            .for_each(|(i, (x, y))| f(i, x, y));
+    } else {
+        a.iter_mut()
+            .zip(b.iter_mut())
+            .enumerate()
+            .for_each(|(i, (x, y))| f(i, x, y));
+    }
+}
 
 /// Checks a per-particle array: length `n` (or empty if `optional`), every entry finite and > 0.
 fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Result<(), Error> {
@@ -1311,15 +1328,17 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
                     let sub = next_substep(stable, dt - elapsed);
                     self.acoustic_step(sub);
                     elapsed += sub;
+                    if elapsed < dt {
+                        // Probes and series sample at acoustic resolution.
+                        self.record_if_due();
+                    }
                 }
             }
         }
         self.time = start + dt;
         self.steps += 1;
         self.check_finite()?;
-        if !self.probes.is_empty() && self.schedule.due(self.time) {
-            self.record_probes();
-        }
+        self.record_if_due();
         Ok(StepInfo {
             dt,
             time: self.time,
@@ -1394,6 +1413,25 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
             ],
         );
         save_probes(out, &self.probes);
+        // The energy budget's accumulated works, the momentum balance and the contact series.
+        let w = &self.work;
+        out.f64s(
+            "budget",
+            &[
+                w.riemann,
+                w.artificial,
+                w.contact,
+                w.shear,
+                w.loads,
+                w.density_jump,
+                self.initial_total,
+            ],
+        );
+        out.vectors::<D>(
+            "momentum_balance",
+            &[self.initial_momentum, self.constraint_impulse],
+        );
+        save_series(out, &self.series);
         Ok(())
     }
 
@@ -1439,6 +1477,20 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         (self.isolated, self.isolated_max) = (c[3] as usize, c[4] as usize);
         self.first_isolation = (c[5] != 0).then_some(first_isolation);
         restore_probes(input, &mut self.probes)?;
+        let [riemann, artificial, contact, shear, loads, density_jump, initial_total] =
+            input.scalars::<7>("budget")?;
+        self.work = AccumulatedWork {
+            riemann,
+            artificial,
+            contact,
+            shear,
+            loads,
+            density_jump,
+        };
+        self.initial_total = initial_total;
+        let m = input.vectors::<D>("momentum_balance", Some(2))?;
+        (self.initial_momentum, self.constraint_impulse) = (m[0], m[1]);
+        restore_series(input, &mut self.series)?;
         self.check_finite()
     }
 
@@ -1476,11 +1528,14 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
             "von_mises",
             "shear_stress",
             "disorder",
+            "fragment",
             "original_index",
         ]
     }
 
     /// Output fields in the current particle order (see [`UlSolver::original_index`]).
+    /// `fragment` labels the connected pieces of the own-body neighbour graph of the last
+    /// rebuild (`0..k`; a body that breaks apart — numerical fracture — has several).
     fn field(&self, name: &str) -> Option<Field<D>> {
         let n = self.len();
         Some(match name {
@@ -1511,6 +1566,14 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
                 self.stress.clone()
             }),
             "disorder" => Field::Scalar(self.disorder()),
+            "fragment" => Field::Scalar(
+                self.list
+                    .components()
+                    .0
+                    .into_iter()
+                    .map(f64::from)
+                    .collect(),
+            ),
             "original_index" => {
                 Field::Scalar(self.original_index.iter().map(|&i| i as f64).collect())
             }
@@ -1529,5 +1592,13 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
 
     fn momentum(&self) -> Option<glam::DVec3> {
         Some(D::to_vec3(self.linear_momentum()))
+    }
+
+    fn energy_budget(&self) -> Option<EnergyBudget> {
+        self.params.energy_budget.then(|| self.energy_budget_now())
+    }
+
+    fn series(&self) -> Vec<Series> {
+        self.series.clone()
     }
 }

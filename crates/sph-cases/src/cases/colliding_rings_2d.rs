@@ -101,7 +101,8 @@ impl Case for CollidingRings2d {
                 "contact_stiffness",
                 1.0,
                 Range::Positive,
-                "contact stiffness factor κ (k = κ E dp^(d−2))",
+                "contact stiffness factor κ (MPS: penalty k = κ E dp^(d−2); UL: contact \
+                 pressure p_c = κ c0² ρ_c)",
             ),
         ];
         specs.extend(mps_params());

@@ -1,8 +1,12 @@
 //! The cases, one module each, and the pieces they share.
 
+pub mod ball_plate;
 pub mod bending_column_3d;
 pub mod cantilever_plate_2d;
+pub mod colliding_balls_3d;
 pub mod colliding_rings_2d;
+pub mod hertz_impact_3d;
+pub mod impact_common;
 pub mod mps_common;
 pub mod oscillating_plate_2d;
 pub mod oscillating_plate_3d;
@@ -33,6 +37,10 @@ pub static ALL: &[&dyn Case] = &[
     &pressurised_ring_2d::PressurisedRing2d,
     &slab_tension_2d::SlabTension2d,
     &colliding_rings_2d::CollidingRings2d,
+    &colliding_balls_3d::CollidingBalls3d,
+    &ball_plate::BallPlate2d,
+    &ball_plate::BallPlate3d,
+    &hertz_impact_3d::HertzImpact3d,
     &cantilever_plate_2d::CantileverPlate2d,
     &static_cantilever_2d::StaticCantilever2d,
 ];

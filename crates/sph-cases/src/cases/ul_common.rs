@@ -79,6 +79,12 @@ pub fn ul_params() -> Vec<Param> {
             "let particles that lose every neighbour fly on (counted in the summary as \
              `isolated_max`) instead of stopping the run",
         ),
+        Param::bool(
+            "energy_budget",
+            true,
+            "keep the energy budget (kinetic + volumetric + shear + contact + dissipated + \
+             diffused − artificial-stress and load work; summary `energy_residual`)",
+        ),
         Param::choice(
             "riemann",
             "sphinxsys-tests",
@@ -136,6 +142,11 @@ pub fn ul_numerics(p: &Params) -> UlParams {
         refresh_kernel_data: p.flag("refresh_kernel_data"),
         corrected_velocity_gradient: p.flag("ul_corrected_gradient"),
         cfl_advection: p.f64("ul_cfl_advection"),
+        energy_budget: p.flag("energy_budget"),
+        // The cases with contact between bodies have the key (MPS rings: their penalty's κ).
+        contact_scale: p
+            .value("contact_stiffness")
+            .map_or(1.0, |_| p.f64("contact_stiffness")),
         ..UlParams::default()
     }
 }
@@ -149,6 +160,7 @@ pub const UL_FIELDS: &[&str] = &[
     "pressure",
     "von_mises",
     "disorder",
+    "fragment",
 ];
 
 /// Builds a UL solver and runs it: the tail every UL case shares. `attach` receives the solver
@@ -166,6 +178,15 @@ pub fn run_ul<D: Dim>(
     summarise: impl FnOnce(&dyn Solver<D>, &RunRecord) -> Map<String, Json>,
 ) -> Result<(RunRecord, Map<String, Json>), CaseError> {
     let shear = ul_shear_of(method, p)?;
+    // Scale of the momentum balance: Σ m |v| at t = 0 (or Σ m c0 for a body at rest).
+    let p_scale = body
+        .velocities
+        .iter()
+        .zip(&body.volumes)
+        .map(|(&v, &vol)| D::norm(v) * vol)
+        .sum::<f64>()
+        .max(body.volumes.iter().sum::<f64>() * constants.sound_speed * 1e-12)
+        * constants.density;
     let solver = UlSolver::new(body, constants, shear, ul_numerics(p))?;
     let mut solver = attach(solver)?;
     let mut meta = meta(case, method, p, solver.len());
@@ -197,6 +218,33 @@ pub fn run_ul<D: Dim>(
     summary.insert("particle_steps_per_second".into(), json!(rate));
     summary.insert("neighbour_rebuilds".into(), json!(solver.rebuild_count()));
     summary.insert("isolated_max".into(), json!(solver.isolated_max()));
+    // Σ m v − (Σ m v)(0) + the supports' impulse, over Σ m |v(0)|: round-off for any scene
+    // without loads (every pair term is antisymmetric).
+    summary.insert(
+        "momentum_balance".into(),
+        json!(D::norm(solver.momentum_balance()) / p_scale),
+    );
+    // The budget with the exactly accumulated work of ENOG's A_s and of the contact forces in
+    // place of their estimates (shear energy from the output stress, contact potential).
+    if let Some(b) = Solver::<D>::energy_budget(&solver) {
+        let e0 = b.initial_total;
+        let swap = |term: &str, note: &str| match (b.get(term), b.get(note)) {
+            (Some(t), Some(n)) => n - t,
+            _ => 0.0,
+        };
+        let exact = b.residual() + swap("shear", "shear_work") + swap("contact", "contact_work");
+        if e0 > 0.0 {
+            summary.insert("energy_residual_exact_work".into(), json!(exact / e0));
+            for (key, note) in [
+                ("shear_work_final", "shear_work"),
+                ("contact_work_final", "contact_work"),
+            ] {
+                if let Some(w) = b.get(note) {
+                    summary.insert(key.into(), json!(w / e0));
+                }
+            }
+        }
+    }
     summary.insert("fracture".into(), json!(solver.isolated_max() > 0));
     summary.insert(
         "first_isolation_time".into(),
