@@ -712,6 +712,17 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
 /// continuum value `½ E' I κ²` per unit length over the same length. A ratio below 1 is a
 /// bending stiffness deficit; `1/ratio − 1` the tip-deflection excess it alone would cause.
 pub fn bending_stiffness_ratio(res: u32, re_over_l0: f64) -> Result<f64, String> {
+    bending_stiffness_ratio_with(res, re_over_l0, sph_mps::Fit::Linear)
+}
+
+/// [`bending_stiffness_ratio`] with the given WLS fit (the quadratic fit removes the surface
+/// rows' deficit; what remains is the midpoint quadrature of `∫ y² dy` over the rows,
+/// `1 − (dp/H)²`).
+pub fn bending_stiffness_ratio_with(
+    res: u32,
+    re_over_l0: f64,
+    fit: sph_mps::Fit,
+) -> Result<f64, String> {
     use glam::DVec2;
     use sph_core::generate::{Aabb, Lattice, ParticleSet};
     use sph_core::D2;
@@ -735,6 +746,7 @@ pub fn bending_stiffness_ratio(res: u32, re_over_l0: f64) -> Result<f64, String>
     };
     let params = sph_mps::MpsParams {
         re_over_l0,
+        fit,
         ..Default::default()
     };
     let mut solver = sph_mps::MpsSolver::new(body, mat, params).map_err(|e| e.to_string())?;
