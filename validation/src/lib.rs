@@ -9,6 +9,7 @@ pub mod extreme;
 pub mod frames;
 pub mod h5report;
 pub mod mps;
+pub mod mps_stab;
 pub mod plot;
 pub mod store;
 pub mod tl;

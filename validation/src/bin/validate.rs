@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! cargo run --release -p sph-validation --bin validate -- tl [--medium] [--fine] [--table2] [--force]
-//! cargo run --release -p sph-validation --bin validate -- mps [--full] [--force]
+//! cargo run --release -p sph-validation --bin validate -- mps [--full] [--fine] [--force]
 //! cargo run --release -p sph-validation --bin validate -- ul [--fine] [--force]
 //! cargo run --release -p sph-validation --bin validate -- extreme [--short] [--force]
 //! cargo run --release -p sph-validation --bin validate -- report
@@ -15,7 +15,7 @@
 //! `validate` adopts the finished file instead of running again.
 
 use clap::{Parser, Subcommand};
-use sph_validation::{extreme, h5report, mps, plot, store, tl, ul, workspace_root};
+use sph_validation::{extreme, h5report, mps, mps_stab, plot, store, tl, ul, workspace_root};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
@@ -47,11 +47,14 @@ enum Command {
         #[arg(long)]
         force: bool,
     },
-    /// MPS validation runs (MPS paper §IV), then the report.
+    /// MPS validation runs (MPS paper §IV) and the stabilisation study, then the report.
     Mps {
         /// Include the slab at the paper's resolution (hours).
         #[arg(long)]
         full: bool,
+        /// Include the stabilisation study's H/dp = 20 plate and H/dp = 40 static cantilever.
+        #[arg(long)]
+        fine: bool,
         /// Re-run stored runs.
         #[arg(long)]
         force: bool,
@@ -99,8 +102,10 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
     }
-    if let Command::Mps { full, force } = cli.command {
-        if let Err(e) = mps::run_all(mps::Selection { force, full }) {
+    if let Command::Mps { full, fine, force } = cli.command {
+        if let Err(e) = mps::run_all(mps::Selection { force, full })
+            .and_then(|_| mps_stab::run_all(mps_stab::Selection { force, fine }))
+        {
             eprintln!("error: {e}");
             return ExitCode::from(1);
         }
@@ -156,6 +161,7 @@ fn report() -> Result<(), String> {
     .unwrap();
     tl::report(&mut md, &figs, "validation")?;
     mps::report(&mut md, &figs, "validation")?;
+    mps_stab::report(&mut md, &figs, "validation")?;
     ul::report(&mut md, &figs, "validation")?;
     extreme::report(&mut md, &figs, "validation")?;
     let out = docs.join("validation.md");
