@@ -9,10 +9,11 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use glam::DVec2;
 use sph_benchmarks::{thread_pool, MPS_BENCH_GROUP, MPS_BENCH_RESOLUTIONS};
 use sph_cases::cases::oscillating_plate_2d::{mode_shape, plate_particles};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Solver, D2};
 use sph_materials::{ElasticConstants, MaterialKind};
-use sph_mps::{MpsBody, MpsParams, MpsSolver};
-use sph_tl::{Shear, TlBody, TlParams, TlSolver};
+use sph_mps::{MpsParams, MpsSolver};
+use sph_tl::{Shear, TlParams, TlSolver};
 use std::time::Duration;
 
 fn bench(c: &mut Criterion) {
@@ -51,11 +52,12 @@ fn bench(c: &mut Criterion) {
                 cons
             };
             let mut mps = pool.install(|| {
-                let body = MpsBody::<D2> {
+                let body = Body::<D2> {
                     positions: set.positions().to_vec(),
                     volumes: set.volumes().to_vec(),
                     dp,
                     velocities: velocities.clone(),
+                    densities: Vec::new(),
                 };
                 let m = MaterialKind::SaintVenantKirchhoff.build(constants).unwrap();
                 MpsSolver::new(body, m, MpsParams::default())
@@ -63,11 +65,12 @@ fn bench(c: &mut Criterion) {
                     .with_constraints(fixed())
             });
             let mut tl = pool.install(|| {
-                let body = TlBody::<D2> {
+                let body = Body::<D2> {
                     positions: set.positions().to_vec(),
                     volumes: set.volumes().to_vec(),
                     dp,
                     velocities: velocities.clone(),
+                    densities: Vec::new(),
                 };
                 let m = MaterialKind::SaintVenantKirchhoff.build(constants).unwrap();
                 TlSolver::new(body, m, Shear::hourglass_free(), TlParams::default())

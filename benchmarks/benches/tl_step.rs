@@ -7,9 +7,10 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use glam::DVec3;
 use sph_benchmarks::{thread_pool, TL_BENCH_GROUP, TL_BENCH_METHODS, TL_BENCH_RESOLUTIONS};
 use sph_cases::cases::bending_column_3d::column_particles;
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Solver};
 use sph_materials::{ElasticConstants, MaterialKind};
-use sph_tl::{Shear, TlBody, TlParams, TlSolver};
+use sph_tl::{Shear, TlParams, TlSolver};
 use std::time::Duration;
 
 fn bench(c: &mut Criterion) {
@@ -36,11 +37,12 @@ fn bench(c: &mut Criterion) {
             for threads in [1usize, 2] {
                 let pool = thread_pool(threads);
                 let mut solver = pool.install(|| {
-                    let body = TlBody::<sph_core::D3> {
+                    let body = Body::<sph_core::D3> {
                         positions: set.positions().to_vec(),
                         volumes: set.volumes().to_vec(),
                         dp,
                         velocities: velocities.clone(),
+                        densities: Vec::new(),
                     };
                     let material = MaterialKind::NeoHookean.build(constants).unwrap();
                     let mut cons = Constraints::new();

@@ -1,8 +1,9 @@
 //! Shared set-up for the throughput benchmarks and the generator of `docs/performance.md`.
 //!
-//! Every criterion benchmark of the workspace lives in `benches/`; each describes itself here (a
-//! [`BenchSpec`]) so that the `perf-report` binary can find its results under
-//! `target/criterion/` and render them as a table without anyone copying numbers by hand.
+//! Every criterion benchmark of the workspace lives in `benches/`; each describes itself here
+//! (its group name, resolutions and methods, e.g. [`TL_BENCH_GROUP`]) so that the `perf-report`
+//! binary can find its results under `target/criterion/` and render them as a table without
+//! anyone copying numbers by hand.
 #![deny(missing_docs)]
 
 use glam::DVec3;

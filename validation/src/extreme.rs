@@ -514,10 +514,13 @@ fn quasi_static_section(md: &mut String) {
 }
 
 /// The FE value of `quantity` for an entry whose parameters match `matches`, from the FE
-/// reference file: the extrapolated value where there is one, else the finest mesh's.
+/// reference file (`validation/fem/README.md`): the extrapolated value where there is one,
+/// else the finest mesh's.
 fn fem_value(file: &Value, matches: &dyn Fn(&Value) -> bool, quantity: &str) -> Option<f64> {
     let entries = file.get("entries")?.as_array()?;
-    let e = entries.iter().find(|e| matches(e))?;
+    let e = entries
+        .iter()
+        .find(|e| e.get("params").is_some_and(matches))?;
     let q = e.get(quantity)?;
     q.get("extrapolated")
         .and_then(Value::as_f64)
@@ -525,9 +528,28 @@ fn fem_value(file: &Value, matches: &dyn Fn(&Value) -> bool, quantity: &str) -> 
         .or_else(|| q.as_f64())
 }
 
-fn close(v: Option<&Value>, x: f64) -> bool {
-    v.and_then(Value::as_f64)
+/// Whether parameter `key` (or its alias) of an FE entry equals `x`.
+fn close(params: &Value, keys: &[&str], x: f64) -> bool {
+    keys.iter()
+        .find_map(|k| params.get(*k).and_then(Value::as_f64))
         .is_some_and(|a| (a - x).abs() < 1e-9 * x.abs().max(1.0))
+}
+
+/// The FE punching entry at compression `c` with the paper's punches.
+fn punching_entry(c: f64) -> impl Fn(&Value) -> bool {
+    move |p| close(p, &["compression", "c"], c) && close(p, &["punch_width"], 9e-3)
+}
+
+/// The FE pulling entry at `stretch` for a body of height/width `h_over_w`.
+fn pulling_entry(stretch: f64, h_over_w: f64) -> impl Fn(&Value) -> bool {
+    move |p| {
+        let aspect = p
+            .get("H_p")
+            .and_then(Value::as_f64)
+            .zip(p.get("W_p").and_then(Value::as_f64))
+            .map(|(h, w)| h / w);
+        close(p, &["stretch"], stretch) && aspect.is_some_and(|a| (a - h_over_w).abs() < 1e-6)
+    }
 }
 
 fn fem_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), String> {
@@ -567,18 +589,10 @@ fn fem_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Str
     if let Some(file) = &punching {
         let mut row = "| FE | – ".to_string();
         for c in cs {
-            let v = fem_value(
-                file,
-                &|e| close(e.get("compression"), c) && close(e.get("punch_width"), 9e-3),
-                "force",
-            );
+            let v = fem_value(file, &punching_entry(c), "force");
             write!(row, "| {} ", fmt_opt(v, 0)).unwrap();
         }
-        let b = fem_value(
-            file,
-            &|e| close(e.get("compression"), 0.3) && close(e.get("punch_width"), 9e-3),
-            "bulge",
-        );
+        let b = fem_value(file, &punching_entry(0.3), "bulge");
         writeln!(md, "{row}| {} |", fmt_opt(b, 4)).unwrap();
     }
     let mut plot = Vec::new();
@@ -591,13 +605,9 @@ fn fem_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Str
             let mut row = format!("| {m} | {r} ");
             for c in cs {
                 let v = interpolate(&pts, c);
-                let ref_v = punching.as_ref().and_then(|file| {
-                    fem_value(
-                        file,
-                        &|e| close(e.get("compression"), c) && close(e.get("punch_width"), 9e-3),
-                        "force",
-                    )
-                });
+                let ref_v = punching
+                    .as_ref()
+                    .and_then(|file| fem_value(file, &punching_entry(c), "force"));
                 match ref_v {
                     Some(_) => write!(row, "| {} ({}) ", fmt_opt(v, 0), pct(rel(v, ref_v))),
                     None => write!(row, "| {} ", fmt_opt(v, 0)),
@@ -605,13 +615,9 @@ fn fem_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Str
                 .unwrap();
             }
             let b = num(&punch_sym_id(m, 0.3, r), "bulge");
-            let ref_b = punching.as_ref().and_then(|file| {
-                fem_value(
-                    file,
-                    &|e| close(e.get("compression"), 0.3) && close(e.get("punch_width"), 9e-3),
-                    "bulge",
-                )
-            });
+            let ref_b = punching
+                .as_ref()
+                .and_then(|file| fem_value(file, &punching_entry(0.3), "bulge"));
             writeln!(md, "{row}| {} {} |", fmt_opt(b, 4), pct(rel(b, ref_b))).unwrap();
             if r == 30 || (m == "tl-hf" && r == 60) {
                 plot.push(Series {
@@ -625,16 +631,7 @@ fn fem_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Str
     if let Some(file) = &punching {
         let pts: Vec<(f64, f64)> = cs
             .iter()
-            .filter_map(|&c| {
-                Some((
-                    c,
-                    fem_value(
-                        file,
-                        &|e| close(e.get("compression"), c) && close(e.get("punch_width"), 9e-3),
-                        "force",
-                    )?,
-                ))
-            })
+            .filter_map(|&c| Some((c, fem_value(file, &punching_entry(c), "force")?)))
             .collect();
         if !pts.is_empty() {
             plot.push(Series {
@@ -674,13 +671,7 @@ fn fem_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Str
                 let Some(run) = load(&pull_fem_id(m, s, r)) else {
                     continue;
                 };
-                let h_over_w = 1.0 - 1.0 / r as f64;
-                let matches = |e: &Value| {
-                    close(e.get("stretch"), s)
-                        && e.get("height_over_width")
-                            .and_then(Value::as_f64)
-                            .is_some_and(|h| (h - h_over_w).abs() < 1e-6)
-                };
+                let matches = pulling_entry(s, 1.0 - 1.0 / r as f64);
                 let ff = pulling
                     .as_ref()
                     .and_then(|p| fem_value(p, &matches, "force"));

@@ -8,6 +8,7 @@ use crate::plot::{line_plot, Series};
 use crate::plot::{particle_frames, Frame};
 use crate::store::{fmt_opt, load, pct, rel, run_or_load, run_or_load_then, status};
 use sph_cases::CaseError;
+use sph_core::Body;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -760,11 +761,12 @@ pub fn bending_stiffness_ratio_with(
         .build(c)
         .map_err(|e| e.to_string())?;
     let reference = set.positions().to_vec();
-    let body = sph_mps::MpsBody::<D2> {
+    let body = Body::<D2> {
         positions: reference.clone(),
         volumes: set.volumes().to_vec(),
         dp,
         velocities: Vec::new(),
+        densities: Vec::new(),
     };
     let params = sph_mps::MpsParams {
         re_over_l0,

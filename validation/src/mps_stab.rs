@@ -394,12 +394,7 @@ pub fn ring_disorder_floor(outer: f64, r_inner: f64, alpha: f64) -> Result<(f64,
         .collect();
     let mat = MaterialModel::MooneyRivlin(MooneyRivlinLike::mps_paper());
     let _ = Material::<sph_core::D2>::constants(&mat);
-    let body = sph_mps::MpsBody::<sph_core::D2> {
-        positions: reference,
-        volumes: set.volumes().to_vec(),
-        dp: 0.1,
-        velocities: Vec::new(),
-    };
+    let body = sph_core::Body::<sph_core::D2>::new(reference, set.volumes().to_vec(), 0.1);
     let params = sph_mps::MpsParams {
         stabilisation: alpha,
         ..Default::default()

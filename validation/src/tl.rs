@@ -729,7 +729,7 @@ fn disorder_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<()
     writeln!(
         md,
         "ν = 0.3975, H/dp = 10, t ≤ 1 s, frame clamp, linear elastic (SVK) unless marked \
-         neo-Hookean (TL-HF: its paper's law). Disorder indicator of METHODS.md (Ganzenmüller's \
+         neo-Hookean (TL-HF: its paper's law). Disorder indicator of docs/methods.md (Ganzenmüller's \
          error e_i = Σ W |F_i X_ij − x_ij| / Σ W |X_ij|), maximum and 99th percentile over \
          particles, largest over time. A run that stops reports why (a time step collapsing \
          below 10⁻³ of the acoustic step means particles collapsed onto each other).\n"

@@ -82,7 +82,7 @@ fn oas_b_set(corrected: bool) -> Vec<String> {
 }
 
 /// The long runs: method and whether the kernel data are frozen over the acoustic sub-steps
-/// (METHODS.md's scheme, to show its drift; the default refreshes them).
+/// (docs/methods.md's scheme, to show its drift; the default refreshes them).
 const LONG_RUNS: [(&str, bool); 3] = [("ul-enog", false), ("ul-oas", false), ("ul-enog", true)];
 
 fn long_id(method: &str, frozen: bool) -> String {
@@ -431,7 +431,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
          `UlSolver::disorder`). Amplitudes: the tip's largest |y| in the first and in the last \
          second; periods: between successive downward crossings, the first and the last one. \
          Dual-criteria stepping with the kernel data refreshed every acoustic sub-step (the \
-         default); the last row freezes them over the advection step as METHODS.md describes, \
+         default); the last row freezes them over the advection step as docs/methods.md describes, \
          which softens the plate secularly (the paper ran its long run with single stepping, \
          which avoids that too). Solid clamp (runs made before the clamp key; the zigzag does \
          not depend on it). No energy column: the UL solver's shear energy for ENOG was an \
@@ -578,7 +578,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         md,
         "Rings r = 0.03/0.04 m, centres 0.09 m apart, E = 10 MPa, ν = 0.4, ρ = 1200 \
          (c0 = 117.9 m/s), dp = 0.001 (4,398 particles), t ≤ 0.02 s. The rings are two bodies of \
-         one UL solver meeting through METHODS.md's contact pressure (`UlSolver::with_contact`; \
+         one UL solver meeting through docs/methods.md's contact pressure (`UlSolver::with_contact`; \
          momentum conserved to round-off, test `contact_between_bodies_conserves_momentum_and_\
          rebounds`). Disorder indicator as for the long run; `isolated` = the most particles \
          without any neighbour of their own body at a rebuild (numerical fracture); stress \

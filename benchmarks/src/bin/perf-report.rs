@@ -230,7 +230,7 @@ fn ul_stepping_section(md: &mut String, root: &Path) {
          neighbour list and B rebuilt once per advection step (Δt_ad = 0.2 h/|v|max) with \
          acoustic sub-steps (Δt_ac = 0.4 h/(c0 + |v|max)) that recompute the kernel data over \
          that list (the default); dual frozen: the kernel data of the rebuild serve all \
-         sub-steps (METHODS.md; softens long oscillations, see docs/validation.md); single: \
+         sub-steps (docs/methods.md; softens long oscillations, see docs/validation.md); single: \
          the same acoustic step with a rebuild every step. Particle-steps/s counts acoustic \
          steps (force evaluations). The paper's speed-ups: ≈ 2× (2D, Table 2: 1.7 / 2.1 / 2.6 at \
          H/dp 10 / 20 / 30) and ≈ 3× (3D, Table 4: 2.7 / 2.7 / 2.8 at H/dp 3 / 5 / 9).\n"

@@ -1,6 +1,6 @@
 //! Dual-criteria vs single-criterion time stepping of UL-ENOG (UL paper §5, Tables 2 and 4), in
 //! the same run — dual with the kernel data refreshed every acoustic sub-step (the default),
-//! dual with them frozen over the advection step (METHODS.md's scheme) and single: the 2D oscillating plate at H/dp = 10, 20, 30 (v_f = 0.05) and the simply
+//! dual with them frozen over the advection step (docs/methods.md's scheme) and single: the 2D oscillating plate at H/dp = 10, 20, 30 (v_f = 0.05) and the simply
 //! supported 3D plate, mode (2, 2) as Table 4, at H/dp = 3 (and 5 with `--fine`), each to a fixed end time with both
 //! schemes. Writes `benchmarks/results/ul-stepping.json`, which `perf-report` turns into the
 //! table of `docs/performance.md`.

@@ -47,7 +47,8 @@ pub enum Range {
 }
 
 impl Range {
-    fn describe(&self, key: &str) -> String {
+    /// The allowed values in words (`allowed range is 0 < nu < 0.5`).
+    pub fn describe(&self, key: &str) -> String {
         match self {
             Range::Positive => format!("allowed range is {key} > 0"),
             Range::NonNegative => format!("allowed range is {key} >= 0"),
@@ -262,7 +263,19 @@ impl Params {
     /// also accepted; `case` and `method` keys are returned for the caller to check).
     pub fn apply_toml(&mut self, text: &str, origin: &str) -> Result<TomlExtras, CaseError> {
         let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-            CaseError::Config(format!("{origin}: malformed TOML: {}", e.message()))
+            let line = e
+                .span()
+                .map(|s| {
+                    format!(
+                        ":{}",
+                        text[..s.start.min(text.len())].matches('\n').count() + 1
+                    )
+                })
+                .unwrap_or_default();
+            CaseError::Config(format!(
+                "{origin}{line}: malformed TOML: {}",
+                e.message().trim()
+            ))
         })?;
         let mut extras = TomlExtras::default();
         let mut entries: Vec<(String, toml::Value)> = Vec::new();
@@ -274,8 +287,22 @@ impl Params {
                 (_, v) => entries.push((k, v)),
             }
         }
+        // A key's line in the file, for the error message.
+        let at = |key: &str| -> String {
+            text.lines()
+                .position(|l| {
+                    l.trim_start()
+                        .strip_prefix(key)
+                        .is_some_and(|r| r.trim_start().starts_with('='))
+                })
+                .map(|k| format!("{origin}:{}: ", k + 1))
+                .unwrap_or_else(|| format!("{origin}: "))
+        };
         for (k, v) in entries {
-            let spec = self.spec(&k)?.clone();
+            let spec = match self.spec(&k) {
+                Ok(s) => s.clone(),
+                Err(e) => return Err(CaseError::Config(format!("{}{e}", at(&k)))),
+            };
             let shown = v.to_string();
             let value = match (&spec.default, v) {
                 (Value::Float(_), toml::Value::Float(x)) => Value::Float(x),
@@ -285,13 +312,15 @@ impl Params {
                 (Value::Text(_), toml::Value::String(s)) => Value::Text(s),
                 (d, _) => {
                     return Err(CaseError::InvalidValue {
-                        key: k.clone(),
+                        key: format!("{}{k}", at(&k)),
                         value: shown,
                         allowed: format!("a value of the same type as the default {d}"),
                     })
                 }
             };
-            self.set(&k, value, &shown)?;
+            if let Err(e) = self.set(&k, value, &shown) {
+                return Err(CaseError::Config(format!("{}{e}", at(&k))));
+            }
         }
         Ok(extras)
     }

@@ -197,3 +197,53 @@ fn a_run_without_a_terminal_logs_its_progress_to_stderr() {
     assert_eq!(code, 0);
     assert!(!err.contains("t = "), "{err}");
 }
+
+#[test]
+fn every_case_template_reads_back_as_its_config() {
+    let dir = scratch("templates");
+    let (_, list, _) = sph(&["list"]);
+    let mut n = 0;
+    for case in list.lines().filter_map(|l| l.split_whitespace().next()) {
+        let (code, text, err) = sph(&["list", "--toml", case]);
+        assert_eq!(code, 0, "{case}: {err}");
+        assert!(text.contains(&format!("case = \"{case}\"")), "{text}");
+        let file = dir.join(format!("{case}.toml"));
+        std::fs::write(&file, &text).unwrap();
+        // The template is the defaults: a dry run with it checks and estimates the case.
+        let (code, _, err) = sph(&["run", case, "--config", file.to_str().unwrap(), "--dry-run"]);
+        assert_eq!(code, 0, "{case}: {err}");
+        n += 1;
+    }
+    assert!(n >= 13, "{n} cases");
+    // A bad value in a parameter file names the file, the line and the key.
+    std::fs::write(dir.join("bad.toml"), "\n\nnu = 0.7\n").unwrap();
+    let (code, _, err) = sph(&[
+        "run",
+        "punching-strip-2d",
+        "--config",
+        dir.join("bad.toml").to_str().unwrap(),
+        "--dry-run",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.toml:3:") && err.contains("nu"), "{err}");
+}
+
+#[test]
+fn a_scene_file_runs_and_refuses_case_options() {
+    let dir = scratch("scene");
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/scenes/discs.toml"
+    );
+    let out = dir.join("o");
+    let (code, text, err) = sph(&["run", scene, "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(text.contains("discs-ul-enog.h5"), "{text}");
+    assert!(out.join("discs-ul-enog.h5").exists());
+    let (code, _, err) = sph(&["run", scene, "--set", "dp=1"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--set does not apply to a scene file"),
+        "{err}"
+    );
+}

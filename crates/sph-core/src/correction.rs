@@ -175,7 +175,7 @@ mod tests {
             }
         }
         // Bulk M = λ I with λ the lattice sum Σ −V r W′ e_x² for h = 1.15 dp (0.9679 in 2D, as
-        // METHODS.md says; 0.9941 in 3D); 1e-5 covers the 6-digit constants, not a wrong sum.
+        // docs/methods.md says; 0.9941 in 3D); 1e-5 covers the 6-digit constants, not a wrong sum.
         assert!(
             worst_bulk < 1e-5,
             "bulk eigenvalue off by {worst_bulk}, min {min_eigenvalue}"

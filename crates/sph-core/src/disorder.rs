@@ -1,4 +1,4 @@
-//! The particle-disorder (hourglass) indicator of METHODS.md (Ganzenmüller's error):
+//! The particle-disorder (hourglass) indicator of docs/methods.md (Ganzenmüller's error):
 //!
 //! `e_i = Σ_j W⁰_ij |F_i X_ij − x_ij| / Σ_j W⁰_ij |X_ij|`, `X_ij = X_i − X_j`, `x_ij = x_i − x_j`.
 //!

@@ -12,7 +12,7 @@
 //! # Cell-centred lattice
 //! [`Lattice`] with spacing `dp` and origin `o` places particle candidates at cell centres
 //! `o + (n + ½) dp` per axis (`n` any integer) and [`ParticleSet::fill`] keeps the candidates the
-//! shape contains, each with volume `V = dp^d` (METHODS.md: `V⁰ = dp^d`).
+//! shape contains, each with volume `V = dp^d` (docs/methods.md: `V⁰ = dp^d`).
 //!
 //! Membership is decided at cell centres, which lie half a spacing away from every lattice-cell
 //! face. When a body's boundaries lie on cell faces (choose `o` on a corner of the body and
@@ -595,6 +595,9 @@ pub struct ParticleSet<D: Dim> {
     volumes: Vec<f64>,
     tags: Vec<u32>,
     regions: Vec<String>,
+    /// The spacing the generator used (`None` for sets assembled from parts or from sets of
+    /// different spacings).
+    spacing: Option<f64>,
 }
 
 impl<D: Dim> Default for ParticleSet<D> {
@@ -611,6 +614,7 @@ impl<D: Dim> ParticleSet<D> {
             volumes: Vec::new(),
             tags: Vec::new(),
             regions: Vec::new(),
+            spacing: None,
         }
     }
 
@@ -640,6 +644,7 @@ impl<D: Dim> ParticleSet<D> {
             volumes,
             tags: vec![0; n],
             regions: Vec::new(),
+            spacing: None,
         })
     }
 
@@ -659,7 +664,21 @@ impl<D: Dim> ParticleSet<D> {
             volumes: vec![lattice.cell_volume(); n],
             tags: vec![0; n],
             regions: Vec::new(),
+            spacing: Some(lattice.dp()),
         })
+    }
+
+    /// The particle spacing the generator used: the lattice spacing of a fill, the `dp` of a
+    /// polar generator; kept by [`extend`](Self::extend) only when both sets agree; `None` for
+    /// sets made [`from_parts`](Self::from_parts).
+    pub fn spacing(&self) -> Option<f64> {
+        self.spacing
+    }
+
+    /// Records the spacing a set was generated with (for generators outside this module).
+    pub fn with_spacing(mut self, dp: f64) -> Self {
+        self.spacing = Some(dp);
+        self
     }
 
     /// Number of particles.
@@ -807,6 +826,19 @@ impl<D: Dim> ParticleSet<D> {
             .is_some_and(|bit| self.tags.get(i).is_some_and(|t| t & bit != 0))
     }
 
+    /// Indices (ascending) of the particles whose position satisfies `pred` (a region chosen
+    /// by a condition rather than a [`Shape`]).
+    pub fn select(&self, pred: impl Fn(D::Vector) -> bool) -> Vec<u32> {
+        (0..self.len() as u32)
+            .filter(|&i| pred(self.positions[i as usize]))
+            .collect()
+    }
+
+    /// Indices (ascending) of the particles inside `shape`.
+    pub fn inside(&self, shape: &dyn Shape<D>) -> Vec<u32> {
+        self.select(|x| shape.contains(x))
+    }
+
     fn indices_where(&self, f: impl Fn(u32) -> bool) -> Vec<u32> {
         self.tags
             .iter()
@@ -906,6 +938,11 @@ impl<D: Dim> ParticleSet<D> {
             .map(|r| self.bit_or_create(r))
             .collect::<Result<_, _>>()?;
         let start = self.len();
+        self.spacing = match (self.is_empty(), self.spacing, other.spacing) {
+            (true, _, b) => b,
+            (false, Some(a), Some(b)) if a == b => Some(a),
+            _ => None,
+        };
         self.positions.extend_from_slice(&other.positions);
         self.volumes.extend_from_slice(&other.volumes);
         self.tags.extend(other.tags.iter().map(|&t| {
@@ -980,7 +1017,7 @@ pub fn annulus_polar(
             layer.push(k);
         }
     }
-    let mut set = ParticleSet::from_parts(positions, volumes)?;
+    let mut set = ParticleSet::from_parts(positions, volumes)?.with_spacing(dp);
     let last = radii.len() - 1;
     if r_in > 0.0 {
         set.tag_where("inner", |i, _| layer[i] == 0)?;
@@ -1026,10 +1063,11 @@ pub fn tube_polar(
     for m in 0..nz {
         let c = base + axis * ((m as f64 + 0.5) * dz);
         let positions = ring.positions().iter().map(|p| c + u * p.x + w * p.y);
-        let mut slice = ParticleSet::from_parts(
+        let mut slice = ParticleSet::<D3>::from_parts(
             positions.collect(),
             ring.volumes().iter().map(|v| v * dz).collect(),
-        )?;
+        )?
+        .with_spacing(dp);
         for name in ring.regions() {
             let members = ring.tagged(name)?;
             slice.tag_particles(name, &members)?;

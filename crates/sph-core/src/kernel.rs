@@ -18,7 +18,7 @@ pub trait Kernel: Copy + Send + Sync {
 }
 
 /// Wendland C2 kernel, `W = α_d (1 − q/2)⁴ (1 + 2q)` for `q = r/h < 2`,
-/// `α_2 = 7/(4π h²)`, `α_3 = 21/(16π h³)` (METHODS.md "Kernel"; Wendland 1995).
+/// `α_2 = 7/(4π h²)`, `α_3 = 21/(16π h³)` (docs/methods.md "Kernel"; Wendland 1995).
 /// The support radius is `2h` (TL papers: `h = 1.15 dp`, cut-off 2.3 dp; UL paper: `h = 1.3 dp`,
 /// cut-off 2.6 dp).
 #[derive(Debug)]

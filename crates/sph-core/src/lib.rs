@@ -7,12 +7,13 @@
 //! frictionless contact ([`tool`]), quasi-static relaxation ([`relaxation`]), the particle
 //! disorder indicator ([`disorder`]), and the [`solver::Solver`] trait.
 //!
-//! Conventions (METHODS.md): particle `i`, neighbour `j`; `x_ij = x_i − x_j`, `e_ij = x_ij/r_ij`
+//! Conventions (docs/methods.md): particle `i`, neighbour `j`; `x_ij = x_i − x_j`, `e_ij = x_ij/r_ij`
 //! points from `j` to `i`; `∇_i W_ij = W′(r_ij) e_ij` with `W′ ≤ 0`.
 #![deny(missing_docs)]
 // Per-axis loops index several small arrays at once; iterator chains would obscure them.
 #![allow(clippy::needless_range_loop)]
 
+pub mod body;
 pub mod budget;
 pub mod correction;
 pub mod diagnostics;
@@ -28,6 +29,7 @@ pub mod scene;
 pub mod solver;
 pub mod tool;
 
+pub use body::Body;
 pub use dim::{Dim, D2, D3};
 pub use error::Error;
 pub use kernel::{Kernel, WendlandC2};

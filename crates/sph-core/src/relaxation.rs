@@ -1,6 +1,6 @@
 //! Quasi-static loading by dynamic relaxation: the splitting random-choice pairwise damping of
-//! Zhu, Zhang & Hu (J. Comput. Phys. 2022, the TL paper's ref. [68]) that the TL paper uses for
-//! its punching and pulling cases (METHODS.md, "Quasi-static cases").
+//! Zhu, Zhang & Hu (J. Comput. Phys. 2022, the TL paper's ref. 68) that the TL paper uses for
+//! its punching and pulling cases (docs/methods.md, "Quasi-static cases").
 //!
 //! A physical viscosity `η` acts between neighbours, `m_i dv_i/dt = Σ_j η W′_ij V_i V_j/r_ij
 //! (v_i − v_j)`. It is integrated **pair by pair, implicitly**: for a pair with
@@ -59,7 +59,7 @@ impl PairwiseDamping {
         Ok(d)
     }
 
-    /// The viscosity scale of METHODS.md, `η = (β/4) √(ρ0 E) L`, for a body of size `L`:
+    /// The viscosity scale of docs/methods.md, `η = (β/4) √(ρ0 E) L`, for a body of size `L`:
     /// a viscosity of order `√(ρ0 E) L` damps the body's lowest elastic mode (wavenumber `π/L`,
     /// frequency `c π/L`) about critically, and `β` scales it.
     pub fn viscosity_for(beta: f64, density: f64, youngs_modulus: f64, length: f64) -> f64 {

@@ -121,6 +121,16 @@ impl<D: Dim> Constraints<D> {
         }
     }
 
+    /// The particles `particles` of a body of `n` particles held fixed (a clamp).
+    ///
+    /// # Errors
+    /// An index outside the body.
+    pub fn fixed(particles: Vec<u32>, n: usize) -> Result<Self, Error> {
+        let mut c = Self::new();
+        c.push(Constraint::Fixed { particles }, n)?;
+        Ok(c)
+    }
+
     /// Adds a constraint, checking its particle indices against the body size `n`.
     pub fn push(&mut self, c: Constraint<D>, n: usize) -> Result<(), Error> {
         if let Some(&bad) = c.particles().iter().find(|&&i| i as usize >= n) {

@@ -1,4 +1,4 @@
-//! Particle generators: exact lattice counts for the CASES.md geometries (plates, columns, slabs)
+//! Particle generators: exact lattice counts for the benchmark geometries (plates, columns, slabs)
 //! whatever the round-off of `dp`, volumes that sum to the shape's measure, region tags for clamps
 //! and supports, permutation, nearest particle, multi-body merging and input validation.
 

@@ -1,6 +1,6 @@
 //! Neighbour search: the cell list and the kd-tree give identical canonical lists on random,
 //! clustered and lattice clouds (2D and 3D), at exact cut-off ties and for tiny bodies; lattice
-//! neighbour counts match METHODS.md.
+//! neighbour counts match docs/methods.md.
 
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;

@@ -10,7 +10,7 @@ const CONSISTENCY_TOL: f64 = 1e-9;
 
 /// Isotropic linear-elastic constants of a solid, all in SI units, always mutually consistent.
 ///
-/// Relations (TL paper eq. 5–6; METHODS.md "Materials"):
+/// Relations (TL paper eq. 5–6; docs/methods.md "Materials"):
 /// `K = E / (3(1 − 2ν))`, `G = μ = E / (2(1 + ν))`, `λ = E ν / ((1 + ν)(1 − 2ν))`,
 /// `K = λ + 2G/3`. (The TL paper's eq. 6 prints `E = 2G(1 + 2ν)`, a typo for `E = 2G(1 + ν)`.)
 ///

@@ -10,6 +10,20 @@
 //!   [`MooneyRivlinLike`] (MPS eq. 12).
 //! - [`MaterialKind`] / [`MaterialModel`]: pick a law by name in a scene.
 //! - [`von_mises`]: the equivalent stress the papers plot.
+//!
+//! ```
+//! use sph_core::{Dim, D2};
+//! use sph_materials::{von_mises, ElasticConstants, Material, NeoHookean};
+//!
+//! // Rubber, stretched 20 % in x in plane strain: the stress and its von Mises value.
+//! let law = NeoHookean::new(ElasticConstants::from_youngs(1e6, 0.45, 1100.0)?);
+//! let f = glam::DMat2::from_diagonal(glam::DVec2::new(1.2, 1.0));
+//! let sigma = Material::<D2>::cauchy_stress_3d(&law, f);
+//! assert!(sigma.x_axis.x > 0.0 && von_mises(sigma) > 0.0);
+//! // Zero stress at rest, for every law.
+//! assert_eq!(Material::<D2>::first_piola_kirchhoff(&law, D2::identity()), glam::DMat2::ZERO);
+//! # Ok::<(), sph_core::Error>(())
+//! ```
 #![deny(missing_docs)]
 
 pub mod constants;

@@ -3,7 +3,7 @@
 use glam::DMat3;
 
 /// Von Mises equivalent stress `√(3/2 s:s)`, `s = σ − ⅓ tr(σ) I` the deviator of the 3×3 Cauchy
-/// stress; equals METHODS.md's
+/// stress; equals docs/methods.md's
 /// `√(σxx² + σyy² + σzz² − σxxσyy − σyyσzz − σzzσxx + 3(σxy² + σyz² + σzx²))`.
 /// 2D plane strain is handled by passing [`crate::Material::cauchy_stress_3d`], which includes
 /// `σzz`. The TL and UL papers colour their figures by this `σ̄`.

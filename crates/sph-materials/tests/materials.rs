@@ -1,4 +1,4 @@
-//! Properties every constitutive law must have (METHODS.md "Materials"), in 2D (plane strain) and
+//! Properties every constitutive law must have (docs/methods.md "Materials"), in 2D (plane strain) and
 //! 3D: zero stress at identity, symmetric S, S = 2∂ψ/∂C (as P = ∂ψ/∂F), objectivity, Hooke at
 //! small strain; plus parameter validation, name parsing and von Mises.
 

@@ -15,10 +15,31 @@
 //!   weights and `A_i⁻¹` are fixed) and the symplectic time step (velocity Verlet by default,
 //!   the paper's symplectic Euler of eq 8 as an option), `Δt = C l0 / c`.
 //!
-//! Conventions (METHODS.md, "Hamiltonian particle model"): `X_ij = X_j − X_i`,
+//! Conventions (docs/methods.md, "Hamiltonian particle model"): `X_ij = X_j − X_i`,
 //! `x_ij = x_j − x_i` (the opposite of the SPH crates' `x_i − x_j`), so that eq 4–7 read as
 //! printed. Loops are gathers over each particle's own neighbours, parallel with rayon, so results
 //! do not depend on the thread schedule.
+//!
+//! ```
+//! use glam::DVec2;
+//! use sph_core::generate::{Aabb, Lattice, ParticleSet};
+//! use sph_core::{Body, Solver, D2};
+//! use sph_materials::{ElasticConstants, SaintVenantKirchhoff};
+//! use sph_mps::{MpsParams, MpsSolver};
+//!
+//! // A free block vibrating in a shear mode: the Hamiltonian keeps its energy.
+//! let shape = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(0.02, 0.02))?;
+//! let set = ParticleSet::fill(&Lattice::new(2e-3, DVec2::ZERO)?, &shape)?;
+//! let body = Body::from(set).with_velocity(|x| DVec2::new(0.1 * (x.y - 0.01), 0.0));
+//! let law = SaintVenantKirchhoff::new(ElasticConstants::from_youngs(1e6, 0.3, 1000.0)?);
+//! let mut s = MpsSolver::new(body, law, MpsParams::default())?;
+//! let e0 = s.energy().total();
+//! for _ in 0..200 {
+//!     s.step(f64::INFINITY)?;
+//! }
+//! assert!((s.energy().total() / e0 - 1.0).abs() < 1e-2);
+//! # Ok::<(), sph_core::Error>(())
+//! ```
 #![deny(missing_docs)]
 
 pub mod contact;
@@ -29,5 +50,5 @@ pub mod wls;
 
 pub use contact::Contact;
 pub use pressure::{PressureFunction, SurfacePressure};
-pub use solver::{Energy, Integrator, MpsBody, MpsParams, MpsSolver};
+pub use solver::{Energy, Integrator, MpsParams, MpsSolver};
 pub use wls::Fit;

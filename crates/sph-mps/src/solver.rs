@@ -17,7 +17,7 @@ use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
 use sph_core::{
-    Constraints, Dim, Error, Field, Loads, NeighborList, PairKernel, Probe, Solver, StepInfo,
+    Body, Constraints, Dim, Error, Field, Loads, NeighborList, PairKernel, Probe, Solver, StepInfo,
 };
 use sph_materials::{von_mises, Material};
 
@@ -43,7 +43,7 @@ pub enum Integrator {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MpsParams {
     /// Radius of the weight of eq 6 over the initial spacing, `r_e / l0` (> 1). Default 2.1, the
-    /// usual MPS gradient radius (METHODS.md range 2.1–3.1): 12 neighbours in 2D and 32 in 3D on
+    /// usual MPS gradient radius (docs/methods.md range 2.1–3.1): 12 neighbours in 2D and 32 in 3D on
     /// a lattice.
     pub re_over_l0: f64,
     /// Courant number `C` of `Δt = C l0 / c`, `c = √(K/ρ0)` (> 0). Default 0.1 (see the crate's
@@ -82,19 +82,6 @@ impl Default for MpsParams {
             stabilisation: 0.0,
         }
     }
-}
-
-/// The particles of one body in its reference configuration.
-#[derive(Clone, Debug)]
-pub struct MpsBody<D: Dim> {
-    /// Reference positions `X` (also the initial positions).
-    pub positions: Vec<D::Vector>,
-    /// Reference volumes `V_i` (mass `m_i = ρ0 V_i`).
-    pub volumes: Vec<f64>,
-    /// Initial particle spacing `l0` (the paper's; `dp` elsewhere), sets `r_e` and `Δt`.
-    pub dp: f64,
-    /// Initial velocities (empty = at rest).
-    pub velocities: Vec<D::Vector>,
 }
 
 /// Kinetic and potential energies of the body.
@@ -176,14 +163,10 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// `courant ≤ 0`, negative damping, non-finite or coincident positions, a material without
     /// strain energy, or a particle with fewer than `D + 1` neighbours
     /// ([`Error::TooFewNeighbours`]: its `A_i` is singular or nearly so).
-    pub fn new(body: MpsBody<D>, material: M, params: MpsParams) -> Result<Self, Error> {
-        let n = body.positions.len();
-        if n == 0 {
-            return Err(Error::EmptyBody {
-                body: "mps body".into(),
-            });
-        }
-        check_positive("dp", body.dp)?;
+    pub fn new(body: impl Into<Body<D>>, material: M, params: MpsParams) -> Result<Self, Error> {
+        let body: Body<D> = body.into();
+        body.validate("mps body")?;
+        body.reject_densities("mps")?;
         if !(params.re_over_l0.is_finite() && params.re_over_l0 > 1.0) {
             return Err(Error::invalid(
                 "re_over_l0",
@@ -195,42 +178,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         check_non_negative("damping", params.damping)?;
         check_non_negative("stabilisation", params.stabilisation)?;
         check_positive("moment_min_eigenvalue", params.moment_min_eigenvalue)?;
-        if body.volumes.len() != n {
-            return Err(Error::invalid(
-                "volumes",
-                body.volumes.len(),
-                &format!("one per particle ({n})"),
-            ));
-        }
-        if let Some(i) = body
-            .volumes
-            .iter()
-            .position(|v| !(v.is_finite() && *v > 0.0))
-        {
-            return Err(Error::invalid(
-                &format!("volumes[{i}]"),
-                body.volumes[i],
-                "> 0 and finite",
-            ));
-        }
-        let velocities = if body.velocities.is_empty() {
-            vec![D::zero(); n]
-        } else if body.velocities.len() == n {
-            if let Some(i) = first_non_finite::<D>(&body.velocities) {
-                return Err(Error::invalid(
-                    &format!("velocities[{i}]"),
-                    format!("{:?}", body.velocities[i]),
-                    "finite",
-                ));
-            }
-            body.velocities
-        } else {
-            return Err(Error::invalid(
-                "velocities",
-                body.velocities.len(),
-                &format!("empty or one per particle ({n})"),
-            ));
-        };
+        let n = body.len();
+        let velocities = body.velocities_or_rest();
         if material.strain_energy_density(D::identity()).is_none() {
             return Err(Error::invalid(
                 "material",
@@ -718,7 +667,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             .map(|st| st.energies(&self.list, &self.positions, &self.deformation))
     }
 
-    /// The disorder indicator of METHODS.md per particle, with the MPS weights of eq 6 in
+    /// The disorder indicator of docs/methods.md per particle, with the MPS weights of eq 6 in
     /// place of the kernel (`e_i = Σ_j w_ij |F_i X_ij − x_ij| / Σ_j w_ij |X_ij|`).
     pub fn disorder(&self) -> Vec<f64> {
         disorder_indicator::<D>(

@@ -1,6 +1,6 @@
 //! The weighted-least-squares kinematics and the Hamiltonian force of the MPS paper, eq 4–7.
 //!
-//! Notation (METHODS.md): `X_ij = X_j − X_i` (reference), `x_ij = x_j − x_i` (current),
+//! Notation (docs/methods.md): `X_ij = X_j − X_i` (reference), `x_ij = x_j − x_i` (current),
 //! `w_ij = w(|X_ij|)` the weight of eq 6, fixed in the reference configuration (total
 //! Lagrangian).
 //!

@@ -7,8 +7,9 @@ mod common;
 use common::*;
 use glam::DVec2;
 use sph_core::generate::ParticleSet;
+use sph_core::Body;
 use sph_core::{Solver, D2};
-use sph_mps::{Contact, MpsBody, MpsParams, MpsSolver};
+use sph_mps::{Contact, MpsParams, MpsSolver};
 
 #[test]
 fn blocks_bounce_with_momentum_and_energy_conserved() {
@@ -26,11 +27,12 @@ fn blocks_bounce_with_momentum_and_energy_conserved() {
         .map(|i| DVec2::new(if second.contains(&i) { -v0 } else { v0 }, 0.0))
         .collect();
     let body_of: Vec<u32> = (0..n).map(|i| second.contains(&i) as u32).collect();
-    let body = MpsBody::<D2> {
+    let body = Body::<D2> {
         positions: set.positions().to_vec(),
         volumes: set.volumes().to_vec(),
         dp: DP,
         velocities,
+        densities: Vec::new(),
     };
     let mut s = MpsSolver::new(body, svk(), MpsParams::default())
         .unwrap()

@@ -1,5 +1,5 @@
 //! Energy behaviour of the symplectic integrators over 10⁵ steps of a free oscillation: the
-//! direct test of the Hamiltonian structure (METHODS.md: "Σ ½ m v² + Σ V ψ(F) must stay bounded,
+//! direct test of the Hamiltonian structure (docs/methods.md: "Σ ½ m v² + Σ V ψ(F) must stay bounded,
 //! no secular drift"), and the measured stability limit of the Courant number `C`.
 
 mod common;

@@ -16,9 +16,10 @@ mod common;
 use common::*;
 use glam::{DMat2, DMat3, DVec3};
 use proptest::prelude::*;
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Error, Solver, TimeFunction, D2, D3};
 use sph_materials::Material;
-use sph_mps::{Integrator, MpsBody, MpsParams, MpsSolver, SurfacePressure};
+use sph_mps::{Integrator, MpsParams, MpsSolver, SurfacePressure};
 
 // ----------------------------------------------------------------- 1. force = −∂U/∂x
 
@@ -273,17 +274,18 @@ fn invalid_input_is_rejected_naming_the_field() {
     let set = block::<D2>([5, 4, 1]);
     let ok = || body::<D2>(&set);
     let p = MpsParams::default();
-    let build = |b: MpsBody<D2>, p: MpsParams| MpsSolver::new(b, svk(), p).map(|_| ());
+    let build = |b: Body<D2>, p: MpsParams| MpsSolver::new(b, svk(), p).map(|_| ());
 
-    let empty = MpsBody::<D2> {
+    let empty = Body::<D2> {
         positions: vec![],
         volumes: vec![],
         dp: DP,
         velocities: vec![],
+        densities: Vec::new(),
     };
     assert!(matches!(build(empty, p), Err(Error::EmptyBody { .. })));
     for dp in [0.0, -1.0, f64::NAN] {
-        let b = MpsBody { dp, ..ok() };
+        let b = Body { dp, ..ok() };
         assert_eq!(field_of(build(b, p).unwrap_err()), "dp");
     }
     for re in [1.0, 0.5, f64::INFINITY] {
@@ -299,7 +301,7 @@ fn invalid_input_is_rejected_naming_the_field() {
     }
     let q = MpsParams { damping: -1.0, ..p };
     assert_eq!(field_of(build(ok(), q).unwrap_err()), "damping");
-    let b = MpsBody {
+    let b = Body {
         volumes: vec![DP * DP; 3],
         ..ok()
     };
@@ -307,7 +309,7 @@ fn invalid_input_is_rejected_naming_the_field() {
     let mut b = ok();
     b.volumes[4] = 0.0;
     assert_eq!(field_of(build(b, p).unwrap_err()), "volumes[4]");
-    let b = MpsBody {
+    let b = Body {
         velocities: vec![D2::zero(); 2],
         ..ok()
     };
@@ -327,11 +329,12 @@ fn invalid_input_is_rejected_naming_the_field() {
         other => panic!("{other:?}"),
     }
     // A line of particles: A_i is rank one; two isolated particles: too few neighbours.
-    let far = MpsBody::<D2> {
+    let far = Body::<D2> {
         positions: vec![D2::vector([0.0, 0.0, 0.0]), D2::vector([1.0, 0.0, 0.0])],
         volumes: vec![DP * DP; 2],
         dp: DP,
         velocities: vec![],
+        densities: Vec::new(),
     };
     assert!(matches!(
         build(far, p),

@@ -1,5 +1,5 @@
 //! Ganzenmüller's hourglass control (CMAME 2015), as in LAMMPS `pair_smd_tlsph.cpp` and
-//! TrixiParticles' `PenaltyForceGanzenmueller` (METHODS.md):
+//! TrixiParticles' `PenaltyForceGanzenmueller` (docs/methods.md):
 //!
 //! `f_i += ½ α Σ_j V_i V_j W(r⁰_ij)/|X_ij|² E ((F_i + F_j) X_ij − 2 x_ij)·x̂ x̂`, `a = f/m_i`,
 //!

@@ -4,7 +4,7 @@
 //! divergence is the Laplacian of position (eq 26) discretised pairwise (eq 27), and the
 //! remaining isotropic stress plus damping `τ_r` (eq 28), whose divergence uses eq 20 **without**
 //! the correction matrix: then the ζ terms of the two parts cancel exactly in the undeformed
-//! state, free surfaces included, and a body at rest stays at rest (METHODS.md). `d` is the
+//! state, free surfaces included, and a body at rest stays at rest (docs/methods.md). `d` is the
 //! spatial dimension (`d = 2` in plane strain, as the paper uses it).
 //!
 //! The paper writes the split for its own law (TL eq. 10–14, [`sph_materials::KirchhoffVolDev`]).

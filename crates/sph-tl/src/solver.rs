@@ -16,7 +16,7 @@ use sph_core::scene::{ProbeSchedule, Series};
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
 use sph_core::tool::{ReactionMeter, RigidTool};
 use sph_core::{
-    Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe, Solver,
+    Body, Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe, Solver,
     StepInfo, WendlandC2,
 };
 use sph_materials::{von_mises, Material};
@@ -109,19 +109,6 @@ impl Default for TlParams {
             stretch_limited_dt: false,
         }
     }
-}
-
-/// The particles of one body in its reference configuration.
-#[derive(Clone, Debug)]
-pub struct TlBody<D: Dim> {
-    /// Reference positions `X` (also the initial positions).
-    pub positions: Vec<D::Vector>,
-    /// Reference volumes `V⁰`.
-    pub volumes: Vec<f64>,
-    /// Initial particle spacing `dp` (sets h).
-    pub dp: f64,
-    /// Initial velocities (empty = at rest).
-    pub velocities: Vec<D::Vector>,
 }
 
 /// Kinetic and strain energy of the body.
@@ -224,51 +211,20 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// positions, or a particle with fewer than `D::D` neighbours (its correction matrix and
     /// stress divergence are meaningless).
     pub fn new(
-        body: TlBody<D>,
+        body: impl Into<Body<D>>,
         material: M,
         shear: Shear,
         params: TlParams,
     ) -> Result<Self, Error> {
-        let n = body.positions.len();
-        if n == 0 {
-            return Err(Error::EmptyBody {
-                body: "tl body".into(),
-            });
-        }
-        check_positive("dp", body.dp)?;
+        let body: Body<D> = body.into();
+        body.validate("tl body")?;
+        body.reject_densities("tl")?;
         check_positive("h_over_dp", params.h_over_dp)?;
         check_positive("cfl", params.cfl)?;
         check_positive("min_dt_ratio", params.min_dt_ratio)?;
         shear.validate()?;
-        if body.volumes.len() != n {
-            return Err(Error::invalid(
-                "volumes",
-                body.volumes.len(),
-                &format!("one per particle ({n})"),
-            ));
-        }
-        if let Some(i) = body
-            .volumes
-            .iter()
-            .position(|v| !(v.is_finite() && *v > 0.0))
-        {
-            return Err(Error::invalid(
-                &format!("volumes[{i}]"),
-                body.volumes[i],
-                "> 0 and finite",
-            ));
-        }
-        let velocities = if body.velocities.is_empty() {
-            vec![D::zero(); n]
-        } else if body.velocities.len() == n {
-            body.velocities
-        } else {
-            return Err(Error::invalid(
-                "velocities",
-                body.velocities.len(),
-                &format!("empty or one per particle ({n})"),
-            ));
-        };
+        let n = body.len();
+        let velocities = body.velocities_or_rest();
         let constants = *material.constants();
         let density = constants.density;
         let sound_speed = constants.sound_speed;
@@ -813,7 +769,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         Energy { kinetic, strain }
     }
 
-    /// The disorder indicator of METHODS.md per particle.
+    /// The disorder indicator of docs/methods.md per particle.
     pub fn disorder(&self) -> Vec<f64> {
         disorder_indicator::<D>(
             &self.list,

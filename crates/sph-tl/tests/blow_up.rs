@@ -4,9 +4,10 @@
 
 use glam::DVec2;
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
+use sph_core::Body;
 use sph_core::{Error, Solver, D2};
 use sph_materials::{ElasticConstants, SaintVenantKirchhoff};
-use sph_tl::{Shear, TlBody, TlParams, TlSolver};
+use sph_tl::{Shear, TlParams, TlSolver};
 
 const DP: f64 = 0.01;
 
@@ -27,11 +28,12 @@ fn a_body_crushed_beyond_zero_volume_stops_as_inverted() {
         .iter()
         .map(|x| DVec2::new(-lambda * (x.x - 5.0 * DP), 0.0))
         .collect();
-    let body = TlBody::<D2> {
+    let body = Body::<D2> {
         positions: set.positions().to_vec(),
         volumes: set.volumes().to_vec(),
         dp: DP,
         velocities,
+        densities: Vec::new(),
     };
     let params = TlParams {
         damping: false,

@@ -17,9 +17,10 @@
 use glam::{DMat2, DMat3, DVec2, DVec3};
 use proptest::prelude::*;
 use sph_core::generate::{Aabb, Annulus, Lattice, ParticleSet, Shape};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Error, Kernel, Solver, TimeFunction, D2, D3};
 use sph_materials::{ElasticConstants, Material, NeoHookean, SaintVenantKirchhoff};
-use sph_tl::{Shear, TlBody, TlParams, TlSolver};
+use sph_tl::{Shear, TlParams, TlSolver};
 
 /// Particle spacing of every body here.
 const DP: f64 = 0.01;
@@ -55,12 +56,13 @@ fn block<D: Dim>(n: [usize; 3], dp: f64) -> ParticleSet<D> {
     fill(&Aabb::<D>::from_corner(D::zero(), size).unwrap(), dp)
 }
 
-fn body_of<D: Dim>(set: &ParticleSet<D>, dp: f64) -> TlBody<D> {
-    TlBody {
+fn body_of<D: Dim>(set: &ParticleSet<D>, dp: f64) -> Body<D> {
+    Body {
         positions: set.positions().to_vec(),
         volumes: set.volumes().to_vec(),
         dp,
         velocities: Vec::new(),
+        densities: Vec::new(),
     }
 }
 
@@ -441,7 +443,7 @@ fn angular_drift<D: Dim>(shear: Shear, k: usize, frac: f64) -> f64 {
 /// Δt, 2D and 3D (printed); bound 1e-12.
 ///
 /// HF: not conserved, by construction of the method. Its remaining stress τ_r (eq 28,
-/// isotropic part of size ζG, plus damping) is differentiated *without* B (METHODS.md: required
+/// isotropic part of size ζG, plus damping) is differentiated *without* B (docs/methods.md: required
 /// for the exact rest state of test 2), and `Σ_j V_j x_ij ⊗ ∇⁰W_ij = −F_i M_i` has an
 /// antisymmetric part (after multiplying by τ_r F⁻ᵀ) wherever `M_i ≠ cI`, i.e. in the boundary
 /// layer; the central shear term of eq 27 does not compensate. That torque depends on the
@@ -503,7 +505,7 @@ fn angular_momentum() {
 
 // ------------------------------------------------------------------- 5. invalid input
 
-fn build<D: Dim>(body: TlBody<D>, shear: Shear, params: TlParams) -> Result<(), Error> {
+fn build<D: Dim>(body: Body<D>, shear: Shear, params: TlParams) -> Result<(), Error> {
     TlSolver::new(body, neo_hookean(), shear, params).map(|_| ())
 }
 
@@ -522,15 +524,16 @@ fn check_bad_input<D: Dim>() {
     let o = Shear::Original;
     assert!(build(good(), o, p).is_ok());
 
-    let empty = TlBody::<D> {
+    let empty = Body::<D> {
         positions: vec![],
         volumes: vec![],
         dp: DP,
         velocities: vec![],
+        densities: Vec::new(),
     };
     assert!(matches!(build(empty, o, p), Err(Error::EmptyBody { .. })));
     for dp in [0.0, -DP, f64::NAN] {
-        assert_eq!(invalid_field(build(TlBody { dp, ..good() }, o, p)), "dp");
+        assert_eq!(invalid_field(build(Body { dp, ..good() }, o, p)), "dp");
     }
     let mut short = good();
     short.volumes.pop();

@@ -13,9 +13,10 @@ use glam::{DVec2, DVec3};
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::relaxation::PairwiseDamping;
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Solver, D2, D3};
 use sph_materials::{ElasticConstants, NeoHookean};
-use sph_tl::{Shear, TlBody, TlParams, TlSolver};
+use sph_tl::{Shear, TlParams, TlSolver};
 
 const DP: f64 = 0.01;
 
@@ -32,11 +33,12 @@ fn solver<D: Dim>(set: &ParticleSet<D>, shear: Shear) -> TlSolver<D, NeoHookean>
 where
     NeoHookean: sph_materials::Material<D>,
 {
-    let body = TlBody {
+    let body = Body {
         positions: set.positions().to_vec(),
         volumes: set.volumes().to_vec(),
         dp: DP,
         velocities: Vec::new(),
+        densities: Vec::new(),
     };
     let params = TlParams {
         stretch_limited_dt: true,
@@ -150,11 +152,12 @@ fn contact_is_frictionless_and_its_reaction_is_the_bodys_momentum_change() {
     let lift = DVec2::new(0.0, 1e-4);
     let positions: Vec<DVec2> = set.positions().iter().map(|&x| x + lift).collect();
     let v0 = DVec2::new(1.0, -0.2);
-    let body = TlBody {
+    let body = Body {
         positions,
         volumes: set.volumes().to_vec(),
         dp: DP,
         velocities: vec![v0; n],
+        densities: Vec::new(),
     };
     let wall = RigidTool::new(
         "wall",
@@ -214,11 +217,12 @@ fn relaxation_brings_a_vibrating_body_to_rest_keeping_its_momentum() {
         .iter()
         .map(|x| drift + DVec2::new(2.0 * (x.y - 0.025), 0.0))
         .collect();
-    let body = TlBody {
+    let body = Body {
         positions: set.positions().to_vec(),
         volumes: set.volumes().to_vec(),
         dp: DP,
         velocities,
+        densities: Vec::new(),
     };
     let eta = PairwiseDamping::viscosity_for(1.0, 1000.0, 1e6, 0.1);
     let mut s: TlSolver<D2, NeoHookean> =

@@ -1,4 +1,4 @@
-//! Gray–Monaghan–Swift artificial stress for SPH-OAS (Gray, Monaghan & Swift 2001; METHODS.md),
+//! Gray–Monaghan–Swift artificial stress for SPH-OAS (Gray, Monaghan & Swift 2001; docs/methods.md),
 //! in 2D and 3D through the symmetric eigen-decomposition of the total stress.
 
 use sph_core::{Dim, PairKernel};
@@ -8,7 +8,7 @@ pub const DEFAULT_EPSILON: f64 = 0.3;
 /// Default exponent `n` of the pair factor `f_ij^n`.
 pub const DEFAULT_EXPONENT: u32 = 4;
 
-/// Gray, Monaghan & Swift (2001), as in METHODS.md: with the total stress `σ = τ − p I`
+/// Gray, Monaghan & Swift (2001), as in docs/methods.md: with the total stress `σ = τ − p I`
 /// eigen-decomposed as `Q diag(σ_k) Qᵀ`, `R̄_k = −ε σ_k/ρ²` for `σ_k > 0` (tension), else 0, and
 /// `R = Q diag(R̄) Qᵀ`. The eigen-solver replaces the 2D angle formula, which makes the same code
 /// serve 3D (the UL paper notes OAS had no 3D form).

@@ -18,12 +18,12 @@
 //! (eq 23–25) inside the dual-criteria time stepping of §5 (eq 21–22), see [`stepping`] and
 //! [`solver`]: neighbour lists and the correction matrix are rebuilt only at advection steps and
 //! frozen over the acoustic sub-steps, the kernel data over that list are refreshed every
-//! sub-step (`UlParams::refresh_kernel_data`; METHODS.md freezes them too, which softens a long
+//! sub-step (`UlParams::refresh_kernel_data`; docs/methods.md freezes them too, which softens a long
 //! oscillation secularly); particles are reordered in cell order
 //! at every rebuild ([`UlSolver::original_index`] maps back to the input order).
 //!
 //! Separate bodies: [`UlSolver::with_contact`] splits the particles into bodies that keep their
-//! own neighbours and meet through METHODS.md's contact pressure (repulsive, antisymmetric per
+//! own neighbours and meet through docs/methods.md's contact pressure (repulsive, antisymmetric per
 //! pair, so momentum is conserved). Without it every particle belongs to one body, and colliding
 //! parts of one material meet through the ordinary neighbour search, as Gray et al. did.
 //!
@@ -31,6 +31,26 @@
 //! depend on the thread schedule. Acoustic sub-steps allocate only small scratch (the row
 //! slices of the kernel-data refresh, the contact buffer); rebuilds reuse or replace their own
 //! buffers.
+//!
+//! ```
+//! use glam::DVec2;
+//! use sph_core::generate::annulus_polar;
+//! use sph_core::{Body, Solver};
+//! use sph_materials::ElasticConstants;
+//! use sph_ul::{Shear, UlParams, UlSolver};
+//!
+//! // A rubber disc flying at 1 m/s: `step` is one advection step of the dual-criteria scheme
+//! // (several acoustic sub-steps), so it advances by `0.2 h / |v|max`.
+//! let set = annulus_polar(DVec2::ZERO, 0.0, 0.01, 1e-3)?;
+//! let body = Body::from(set).with_velocity(|_| DVec2::new(1.0, 0.0));
+//! let c = ElasticConstants::from_youngs(1e7, 0.4, 1200.0)?;
+//! let mut s = UlSolver::new(body, c, Shear::non_nested(), UlParams::default())?;
+//! let info = s.step(f64::INFINITY)?;
+//! assert!(s.acoustic_step_count() > 1 && info.time > 0.0);
+//! // Momentum is conserved to round-off.
+//! assert!((s.linear_momentum().x - 1.0 * s.masses().iter().sum::<f64>()).abs() < 1e-12);
+//! # Ok::<(), sph_core::Error>(())
+//! ```
 #![deny(missing_docs)]
 
 pub mod artificial_stress;
@@ -42,5 +62,5 @@ pub mod stepping;
 
 pub use non_nested::LaplacianForm;
 pub use riemann::RiemannScheme;
-pub use solver::{Energy, Shear, UlBody, UlParams, UlSolver};
+pub use solver::{Energy, Shear, UlParams, UlSolver};
 pub use stepping::Stepping;

@@ -8,7 +8,7 @@ use sph_core::Dim;
 /// correction matrix: `(v_j − v_i) ⊗ ∇_i W_ij V_j = −v_ij ⊗ (W′ e_ij) V_j`.
 ///
 /// (The paper prints `v_ij ∇_i W_ij`; with `v_ij = v_i − v_j` and `∇_i W_ij` pointing toward `j`
-/// that has the wrong sign for a linear field; METHODS.md's `−Σ v_ij ⊗ ∇_i W_ij V_j` is exact:
+/// that has the wrong sign for a linear field; docs/methods.md's `−Σ v_ij ⊗ ∇_i W_ij V_j` is exact:
 /// for `v = G x` on a lattice the sum is `G M_i`, and `L_i = (Σ …) B_i = G` with
 /// `B_i = M_i⁻¹`.)
 #[inline(always)]
@@ -21,7 +21,7 @@ pub fn velocity_gradient_pair<D: Dim>(
     D::outer(v_ij * (-v_j), e * dw)
 }
 
-/// Eq. (6)–(8) of the UL paper with the Jaumann (objective) rate of METHODS.md:
+/// Eq. (6)–(8) of the UL paper with the Jaumann (objective) rate of docs/methods.md:
 /// `τ̇ = 2G (D − tr(D)/d I) + Ω τ − τ Ω`, `D = ½(L + Lᵀ)`, `Ω = ½(L − Lᵀ)`. In 2D `d = 2`
 /// (the paper's deviator; the out-of-plane shear stress is zero).
 #[inline(always)]

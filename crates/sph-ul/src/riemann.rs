@@ -1,5 +1,5 @@
 //! Equation of state and the low-dissipation Riemann solver for pressure and continuity
-//! (UL paper eq 4, 11–12; METHODS.md "Updated Lagrangian").
+//! (UL paper eq 4, 11–12; docs/methods.md "Updated Lagrangian").
 //!
 //! Convention: `e_ij = (x_i − x_j)/r_ij` points from `j` to `i`; `u_ij = (v_i − v_j)·e_ij` is
 //! negative when `i` and `j` approach. `W′ ≤ 0`, so `−P* W′ e_ij` pushes `i` away from `j` for
@@ -18,12 +18,13 @@ pub enum RiemannScheme {
     /// that do not move (a density diffusion of strength ~`c0 h`, first order at free
     /// surfaces). In a solid the density is the volumetric strain, so this is a volumetric
     /// creep: the oscillating plate (ENOG, H/dp = 10) runs 24 % slow (T = 0.346 against 0.279
-    /// without the jump; 0.330 against 0.273 at H/dp = 20). The UL cases default to
-    /// [`RiemannScheme::SphinxsysTests`].
-    #[default]
+    /// without the jump; 0.330 against 0.273 at H/dp = 20). Hence the default is
+    /// [`RiemannScheme::SphinxsysTests`], in the library as in the cases.
     Paper,
-    /// What SPHinXsys's elastic-solid tests actually ran (METHODS.md): `β = 1` in the momentum
-    /// equation (dissipation in compression and expansion) and no pressure jump in continuity.
+    /// What SPHinXsys's elastic-solid tests actually ran: `β = 1` in the momentum equation
+    /// (dissipation in compression and expansion) and no pressure jump in continuity. The
+    /// default (library and command line).
+    #[default]
     SphinxsysTests,
     /// The paper's limiter `β` in the momentum equation, no pressure jump in continuity (the
     /// density then changes only through motion).
@@ -36,7 +37,7 @@ pub fn pressure(rho: f64, rho0: f64, c0: f64) -> f64 {
     c0 * c0 * (rho - rho0)
 }
 
-/// Low-dissipation limiter of the Riemann solver (UL paper ref. [28], METHODS.md):
+/// Low-dissipation limiter of the Riemann solver (UL paper ref. 28):
 /// `β = min(3 max(−u_ij, 0)/c0, 1)`; zero for separating pairs (`u_ij ≥ 0`).
 #[inline(always)]
 pub fn limiter(u_ij: f64, c0: f64) -> f64 {
@@ -70,7 +71,7 @@ pub fn pressure_pair_factor(p_star: f64, dw: f64, v_j_over_rho_i: f64) -> f64 {
     -2.0 * p_star * dw * v_j_over_rho_i
 }
 
-/// Pair term of the continuity equation, eq. (11) of the UL paper in the form of METHODS.md:
+/// Pair term of the continuity equation, eq. (11) of the UL paper in the form of docs/methods.md:
 /// `dρ_i/dt = ρ_i Σ_j [u_ij + (p_i − p_j)/(ρ0 c0)] W′_ij V_j`. Returns the bracket; the
 /// pressure jump (a pressure excess at `i` slows its density growth) is dropped for
 /// [`RiemannScheme::SphinxsysTests`].

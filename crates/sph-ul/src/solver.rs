@@ -42,7 +42,7 @@ use sph_core::pairs::{fill_pair_kernels, pair_kernels};
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::{
-    CellGrid, Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe,
+    Body, CellGrid, Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe,
     Solver, StepInfo, WendlandC2,
 };
 use sph_materials::{von_mises, ElasticConstants};
@@ -127,7 +127,8 @@ pub struct UlParams {
     /// Floor of `|v|max` in eq 21, as a fraction of `c0` (0.01: at most `20 h/c0`, i.e. 50
     /// acoustic sub-steps, per advection step for a body nearly at rest).
     pub speed_floor: f64,
-    /// Riemann solver form (the paper's by default).
+    /// Riemann solver form (default: SPHinXsys's solid tests, β = 1 and no pressure jump; see
+    /// [`RiemannScheme`]).
     pub riemann: RiemannScheme,
     /// Correct the velocity gradient with `B` (eq 26) in OG/OAS too. Default false: the paper's
     /// eq 14 has none, and only the uncorrected gradient makes the OG pair (eq 13–14)
@@ -143,7 +144,7 @@ pub struct UlParams {
     pub reorder: bool,
     /// Recompute the pair kernel data (`e_ij`, `r_ij`, `W`, `W′`) from the half-step positions
     /// in every acoustic sub-step, over the neighbour list of the last rebuild (the list, the
-    /// cell list and `B` stay those of the rebuild). Default **on**. Off is METHODS.md's scheme
+    /// cell list and `B` stay those of the rebuild). Default **on**. Off is docs/methods.md's scheme
     /// (the data of the rebuild serve the whole advection step), which makes the 2D plate
     /// (ENOG, H/dp = 10, v_f = 0.05) soften secularly: its period grows 0.278 → 0.298 s within
     /// 3 s and 0.277 → 0.366 s within 10 s, the amplitude growing with it; with the refresh the
@@ -167,7 +168,7 @@ impl Default for UlParams {
             cfl_advection: 0.2,
             cfl_acoustic: 0.4,
             speed_floor: 0.01,
-            riemann: RiemannScheme::Paper,
+            riemann: RiemannScheme::SphinxsysTests,
             corrected_velocity_gradient: false,
             track_shear_stress: true,
             reorder: true,
@@ -176,21 +177,6 @@ impl Default for UlParams {
             refresh_kernel_data: true,
         }
     }
-}
-
-/// The particles of one body in their initial configuration.
-#[derive(Clone, Debug)]
-pub struct UlBody<D: Dim> {
-    /// Initial positions.
-    pub positions: Vec<D::Vector>,
-    /// Initial volumes `V⁰` (masses are `ρ0 V⁰`).
-    pub volumes: Vec<f64>,
-    /// Initial particle spacing `dp` (sets h).
-    pub dp: f64,
-    /// Initial velocities (empty = at rest).
-    pub velocities: Vec<D::Vector>,
-    /// Initial densities (empty = `ρ0` everywhere; otherwise a pre-pressurised state).
-    pub densities: Vec<f64>,
 }
 
 /// Kinetic and elastic energy of the body.
@@ -309,18 +295,13 @@ impl<D: Dim> UlSolver<D> {
     /// non-finite positions or velocities, or a particle without neighbours
     /// ([`Error::TooFewNeighbours`]).
     pub fn new(
-        body: UlBody<D>,
+        body: impl Into<Body<D>>,
         constants: ElasticConstants,
         shear: Shear,
         params: UlParams,
     ) -> Result<Self, Error> {
-        let n = body.positions.len();
-        if n == 0 {
-            return Err(Error::EmptyBody {
-                body: "ul body".into(),
-            });
-        }
-        check_positive("dp", body.dp)?;
+        let body: Body<D> = body.into();
+        body.validate("ul body")?;
         check_positive("h_over_dp", params.h_over_dp)?;
         check_positive("cfl_advection", params.cfl_advection)?;
         check_positive("cfl_acoustic", params.cfl_acoustic)?;
@@ -330,33 +311,9 @@ impl<D: Dim> UlSolver<D> {
             params.correction_min_eigenvalue,
         )?;
         shear.validate()?;
-        check_per_particle("volumes", &body.volumes, n, false)?;
+        let n = body.len();
         check_per_particle("densities", &body.densities, n, true)?;
-        if let Some(i) = first_non_finite::<D>(&body.positions) {
-            return Err(Error::invalid(
-                &format!("positions[{i}]"),
-                format!("{:?}", body.positions[i]),
-                "finite",
-            ));
-        }
-        let velocities = if body.velocities.is_empty() {
-            vec![D::zero(); n]
-        } else if body.velocities.len() == n {
-            body.velocities
-        } else {
-            return Err(Error::invalid(
-                "velocities",
-                body.velocities.len(),
-                &format!("empty or one per particle ({n})"),
-            ));
-        };
-        if let Some(i) = first_non_finite::<D>(&velocities) {
-            return Err(Error::invalid(
-                &format!("velocities[{i}]"),
-                format!("{:?}", velocities[i]),
-                "finite",
-            ));
-        }
+        let velocities = body.velocities_or_rest();
         let rho0 = constants.density;
         let kernel = WendlandC2::<D>::from_spacing(body.dp, params.h_over_dp)?;
         let variant = match shear {
@@ -456,7 +413,7 @@ impl<D: Dim> UlSolver<D> {
     }
 
     /// Attaches the constraints. Particle indices refer to the body's **original** order (the
-    /// order of [`UlBody::positions`]); they are remapped to the current order and at every
+    /// order of [`Body::positions`]); they are remapped to the current order and at every
     /// reordering. Constrained particles are excluded from the time-step maxima.
     pub fn with_constraints(mut self, mut constraints: Constraints<D>) -> Self {
         constraints.remap(&self.inverse_index());
@@ -478,7 +435,7 @@ impl<D: Dim> UlSolver<D> {
     }
 
     /// Makes the particles separate bodies (`body_of[i]` for input particle `i`) that meet
-    /// through contact (METHODS.md, SPHinXsys): each body keeps its own neighbours (pressure,
+    /// through contact (docs/methods.md, SPHinXsys): each body keeps its own neighbours (pressure,
     /// shear, continuity and `B` see only the own body), and particles of different bodies
     /// closer than the kernel support push each other apart with the contact pressure
     /// `p_c = c0² ρ_c`, `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,
@@ -1131,12 +1088,12 @@ impl<D: Dim> UlSolver<D> {
         }
     }
 
-    /// The disorder indicator of METHODS.md per particle (current order), accumulated since the
+    /// The disorder indicator of docs/methods.md per particle (current order), accumulated since the
     /// start: Ganzenmüller's error of the weighted least-squares affine fit from the initial
     /// configuration to the current one, over the current neighbours with weights `W⁰` of the
     /// initial distances (neighbours that were not neighbours initially get `W⁰ = 0`).
     ///
-    /// METHODS.md suggests the fit over the last advection step for UL; that measures the
+    /// docs/methods.md suggests the fit over the last advection step for UL; that measures the
     /// non-affine *increment* of one step (≤ 3·10⁻⁴ on the plate whether or not it is ordered)
     /// and misses a zigzag pattern once it has formed, so the accumulated form is reported;
     /// [`UlSolver::disorder_increment`] gives the per-step form.
@@ -1159,7 +1116,7 @@ impl<D: Dim> UlSolver<D> {
 
     /// The per-step disorder indicator: the affine fit of the motion since the last rebuild
     /// (the last advection step for dual stepping, the last acoustic step for single stepping)
-    /// over the neighbours of that rebuild (METHODS.md's UL form).
+    /// over the neighbours of that rebuild (docs/methods.md's UL form).
     pub fn disorder_increment(&self) -> Vec<f64> {
         let f = affine_fit::<D>(
             &self.list,

@@ -5,9 +5,10 @@
 
 use glam::DVec2;
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
+use sph_core::Body;
 use sph_core::{Error, Loads, Solver, TimeFunction, D2};
 use sph_materials::ElasticConstants;
-use sph_ul::{Shear, Stepping, UlBody, UlParams, UlSolver};
+use sph_ul::{Shear, Stepping, UlParams, UlSolver};
 
 const DP: f64 = 0.01;
 
@@ -19,7 +20,7 @@ fn solver(stepping: Stepping, g: f64) -> UlSolver<D2> {
         &Aabb::new(DVec2::ZERO, DVec2::new(8.0 * DP, 5.0 * DP)).unwrap(),
     )
     .unwrap();
-    let body = UlBody {
+    let body = Body {
         positions: set.positions().to_vec(),
         volumes: set.volumes().to_vec(),
         dp: DP,

@@ -20,6 +20,7 @@ use sph_cases::runner::{Interrupt, Progress, ProgressSink};
 use sph_cases::{all_cases, find_case, resolve_method, CaseError, RunOptions, Value};
 use sph_core::budget::{self, Budget};
 use sph_output::Backend;
+use sph_scene::Scene;
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -49,6 +50,12 @@ enum Command {
         /// Show every parameter with its default, range and meaning.
         #[arg(long, short)]
         verbose: bool,
+        /// Print a commented parameter file for this case (its defaults; `--config` reads it).
+        #[arg(long, value_name = "CASE")]
+        toml: Option<String>,
+        /// With --toml: the method whose defaults to print (default: the case's first).
+        #[arg(long, short)]
+        method: Option<String>,
     },
     /// Run a case.
     Run(Box<RunArgs>),
@@ -56,7 +63,7 @@ enum Command {
 
 #[derive(clap::Args)]
 struct RunArgs {
-    /// Case name (see `sph list`).
+    /// Case name (see `sph list`), or a scene file (`.toml`, see docs/user-guide.md).
     case: String,
     /// Method (default: the case's first method, or the case file's `method`).
     #[arg(long, short)]
@@ -100,7 +107,24 @@ struct RunArgs {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::List { verbose } => match print_out(&list(verbose)) {
+        Command::List {
+            toml: Some(case),
+            method,
+            ..
+        } => match template(&case, method.as_deref()) {
+            Ok(text) => match print_out(&text) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: writing the template: {e}");
+                    ExitCode::from(1)
+                }
+            },
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
+        Command::List { verbose, .. } => match print_out(&list(verbose)) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("error: writing the list: {e}");
@@ -125,6 +149,41 @@ fn print_out(text: &str) -> std::io::Result<()> {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         r => r,
     }
+}
+
+/// A parameter file for `case` with `method`'s defaults, every key commented with its meaning
+/// and range: edit it and run `sph run <case> --config <file>`.
+fn template(case_name: &str, method: Option<&str>) -> Result<String, CaseError> {
+    use std::fmt::Write as _;
+    let case = find_case(case_name)?;
+    let method = resolve_method(case, method)?;
+    let info = case.info();
+    let params = case.params_for(method);
+    let mut s = String::new();
+    let _ = writeln!(s, "# {}: {}", info.name, info.description);
+    let _ = writeln!(
+        s,
+        "# Every parameter with the defaults of method `{method}` (methods: {}).",
+        info.methods.join(", ")
+    );
+    let _ = writeln!(
+        s,
+        "# Run: sph run {} --config <this file>
+",
+        info.name
+    );
+    let _ = writeln!(s, "case = \"{}\"\nmethod = \"{method}\"\n", info.name);
+    for p in params.specs() {
+        let value = match params.value(p.key) {
+            Some(Value::Text(t)) => format!("\"{t}\""),
+            Some(Value::Float(x)) => format!("{x:?}"),
+            Some(v) => v.to_string(),
+            None => continue,
+        };
+        let _ = writeln!(s, "# {} ({})", p.help, p.range.describe(p.key));
+        let _ = writeln!(s, "{} = {value}\n", p.key);
+    }
+    Ok(s)
 }
 
 fn list(verbose: bool) -> String {
@@ -197,7 +256,41 @@ fn install_signal_handlers() -> Result<Interrupt, CaseError> {
     Ok(Arc::new(AtomicUsize::new(0)))
 }
 
-fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
+/// What `sph run` runs: a built-in case with its parameters, or a scene file.
+enum Job {
+    Case {
+        case: &'static dyn sph_cases::Case,
+        method: &'static str,
+        params: sph_cases::Params,
+    },
+    Scene(Box<Scene>),
+}
+
+/// Whether the argument names a scene file rather than a case.
+fn is_scene_file(arg: &str) -> bool {
+    arg.ends_with(".toml") || std::path::Path::new(arg).is_file()
+}
+
+/// A scene file: `--method`, `--set` and `--config` do not apply (the file holds everything).
+fn scene_job(a: &RunArgs) -> Result<Job, CaseError> {
+    for (flag, given) in [
+        ("--method", a.method.is_some()),
+        ("--set", !a.set.is_empty()),
+        ("--config", a.config.is_some()),
+    ] {
+        if given {
+            return Err(CaseError::Config(format!(
+                "{flag} does not apply to a scene file ({}): edit the file",
+                a.case
+            )));
+        }
+    }
+    Scene::from_file(&a.case)
+        .map(|s| Job::Scene(Box::new(s)))
+        .map_err(|e| CaseError::Config(e.to_string()))
+}
+
+fn case_job(a: &RunArgs) -> Result<Job, CaseError> {
     let case = find_case(&a.case)?;
     let mut method = a.method.clone();
     // The method decides the defaults (`Case::params_for`), so it is resolved before the
@@ -242,6 +335,19 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
     for s in &a.set {
         params.apply_assignment(s)?;
     }
+    Ok(Job::Case {
+        case,
+        method,
+        params,
+    })
+}
+
+fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
+    let job = if is_scene_file(&a.case) {
+        scene_job(&a)?
+    } else {
+        case_job(&a)?
+    };
     let backend: Backend = a.backend.parse()?;
     if !backend.is_available() {
         return Err(CaseError::Config(format!(
@@ -279,8 +385,15 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
             .build_global()
             .map_err(|e| CaseError::Config(format!("thread pool: {e}")))?;
     }
-    let results = (!a.no_output).then(|| a.out.join(format!("{}-{}", case.info().name, method)));
+    let (name, method) = match &job {
+        Job::Case { case, method, .. } => (case.info().name.to_string(), method.to_string()),
+        Job::Scene(scene) => (scene.name().to_string(), scene.method().to_string()),
+    };
+    let results = (!a.no_output).then(|| a.out.join(format!("{name}-{method}")));
     let mut inputs = Vec::new();
+    if let Job::Scene(_) = &job {
+        inputs.push(("the scene file".to_string(), PathBuf::from(&a.case)));
+    }
     if let Some(c) = &a.config {
         inputs.push(("--config".to_string(), c.clone()));
     }
@@ -301,7 +414,16 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
         dry_run: a.dry_run,
         interrupt: Some(install_signal_handlers()?),
     };
-    let (record, summary) = budget::scoped(budget, || case.run(method, &params, &options))?;
+    let (record, summary) = budget::scoped(budget, || match &job {
+        Job::Case {
+            case,
+            method,
+            params,
+        } => case.run(method, params, &options),
+        Job::Scene(scene) => scene
+            .run(&options)
+            .map_err(|e| CaseError::Config(e.to_string())),
+    })?;
     if let (Some(path), false) = (&a.summary, a.dry_run) {
         let text = serde_json::to_string_pretty(&Json::Object(summary.clone()))
             .expect("summary serialises");

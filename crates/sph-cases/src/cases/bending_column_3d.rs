@@ -1,4 +1,4 @@
-//! CASES.md 5: the bending column (TL paper §4.4, Fig. 9–12).
+//! Benchmark case 5: the bending column (TL paper §4.4, Fig. 9–12).
 //!
 //! A neo-Hookean column of cross-section H × H and length L along z, clamped at its bottom:
 //! `clamp_layers` extra layers of particles below z = 0 are held fixed (they are not counted in
@@ -15,9 +15,9 @@ use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Probe, Solver, D3};
 use sph_materials::MaterialKind;
-use sph_tl::TlBody;
 
 /// The bending column.
 pub struct BendingColumn3d;
@@ -143,11 +143,12 @@ pub fn run_column(
         .map(|&x| if x.z > 0.0 { velocity(x) } else { DVec3::ZERO })
         .collect();
     let clamp = set.tagged("clamp")?;
-    let body = TlBody::<D3> {
+    let body = Body::<D3> {
         positions: set.positions().to_vec(),
         volumes: set.volumes().to_vec(),
         dp,
         velocities,
+        densities: Vec::new(),
     };
     let interval = p.f64("probe_interval");
     run_tl(

@@ -1,4 +1,4 @@
-//! CASES.md 17: the MPS paper's oscillating cantilever plate (§IV.D, Fig. 4–5, Table I).
+//! Benchmark case 17: the MPS paper's oscillating cantilever plate (§IV.D, Fig. 4–5, Table I).
 //!
 //! Free length `L = 0.2`, thickness `H = 0.02`; the plate continues `base_length = 0.04` to the
 //! left (total 0.24 m, as in the paper) where it is held between bearings: the held segment and
@@ -33,10 +33,10 @@ use crate::runner::{drive, finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Solver, D2};
 use sph_materials::{ElasticConstants, MaterialKind, MaterialModel};
-use sph_mps::MpsBody;
-use sph_tl::{TlBody, TlParams, TlSolver};
+use sph_tl::{TlParams, TlSolver};
 
 /// MPS paper Table I, present model: dimensionless period `T c0/L`.
 pub const PAPER_PERIOD_DIMENSIONLESS: f64 = 74.38;
@@ -148,11 +148,12 @@ impl Case for CantileverPlate2d {
         let mut constraints = Constraints::new();
         constraints.push(Constraint::Fixed { particles: base }, positions.len())?;
         if method == "mps" {
-            let body = MpsBody::<D2> {
+            let body = Body::<D2> {
                 positions,
                 volumes,
                 dp,
                 velocities,
+                densities: Vec::new(),
             };
             return run_mps(
                 "cantilever-plate-2d",
@@ -170,11 +171,12 @@ impl Case for CantileverPlate2d {
                 summarise,
             );
         }
-        let body = TlBody::<D2> {
+        let body = Body::<D2> {
             positions,
             volumes,
             dp,
             velocities,
+            densities: Vec::new(),
         };
         run_tl_plate(
             method,
@@ -195,7 +197,7 @@ impl Case for CantileverPlate2d {
 fn run_tl_plate(
     method: &str,
     p: &Params,
-    body: TlBody<D2>,
+    body: Body<D2>,
     mat: MaterialModel,
     constraints: Constraints<D2>,
     tip: DVec2,

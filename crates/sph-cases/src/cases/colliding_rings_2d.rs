@@ -1,4 +1,4 @@
-//! CASES.md 16: two colliding rubber rings — the MPS variant (MPS paper §IV.C, Fig. 3; after
+//! Benchmark case 16: two colliding rubber rings — the MPS variant (MPS paper §IV.C, Fig. 3; after
 //! Gray, Monaghan & Swift 2001) and the UL variant (UL paper §6.3, Fig. 11–14).
 //!
 //! Rings of inner/outer radius 0.03/0.04 m (the MPS paper prints "diameters of 0.03 cm and
@@ -12,7 +12,7 @@
 //! | material | SVK, K = 3.25e6, μ = 7.15e5, ρ = 1000 | linear (UL), E = 1e7, ν = 0.4, ρ = 1200 |
 //! | speed `v0` of each ring | 0.2 m/s (`v0_unit = m/s`) | 0.06 c0 (`v0_unit = c0`; 0.07, 0.08 in Fig. 13–14) |
 //! | gap between the rings | 0.005 | 0.01 (centres 0.09 apart) |
-//! | interaction | penalty contact (below) | two UL bodies with METHODS.md's contact pressure |
+//! | interaction | penalty contact (below) | two UL bodies with docs/methods.md's contact pressure |
 //! | end time | 0.1 s | 0.02 s |
 //!
 //! **MPS contact.** Both rings are one MPS body, and the Hamiltonian MPS model's neighbours and
@@ -27,7 +27,7 @@
 //!
 //! **UL.** With `contact = true` (default) the rings are two bodies of one UL solver
 //! (`UlSolver::with_contact`): each keeps its own neighbours and they push each other apart
-//! with METHODS.md's contact pressure, so they rebound as in the paper's Fig. 12–14.
+//! with docs/methods.md's contact pressure, so they rebound as in the paper's Fig. 12–14.
 //! `contact = false` makes them one body, as Gray et al.: once closer than the kernel support
 //! they interact like any two particles of the body and stick in tension. `allow_fracture` is
 //! on: particles that lose every neighbour of their own body (numerical fracture, expected for
@@ -46,9 +46,10 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{annulus_polar, ParticleSet};
+use sph_core::Body;
 use sph_core::{Field, Probe, Solver, D2};
 use sph_materials::{ElasticConstants, MaterialKind};
-use sph_mps::{Contact, MpsBody};
+use sph_mps::Contact;
 
 /// Two colliding rings, MPS.
 pub struct CollidingRings2d;
@@ -207,7 +208,7 @@ impl Case for CollidingRings2d {
         let body_of: Vec<u32> = (0..set.len()).map(|i| u32::from(i >= nl)).collect();
         if ul {
             let constants = ElasticConstants::from_bulk_shear(k, mu, rho)?;
-            let body = sph_ul::UlBody::<D2> {
+            let body = Body::<D2> {
                 positions: pos,
                 volumes: set.volumes().to_vec(),
                 dp,
@@ -232,11 +233,12 @@ impl Case for CollidingRings2d {
         }
         let c = ElasticConstants::from_bulk_shear(k, mu, rho)?;
         let mat = MaterialKind::SaintVenantKirchhoff.build(c)?;
-        let body = MpsBody::<D2> {
+        let body = Body::<D2> {
             positions: pos,
             volumes: set.volumes().to_vec(),
             dp,
             velocities,
+            densities: Vec::new(),
         };
         let contact = contact.then(|| Contact {
             body_of,

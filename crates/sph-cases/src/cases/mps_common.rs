@@ -7,9 +7,10 @@ use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::{drive, RunOptions, RunRecord};
 use serde_json::{json, Map, Value as Json};
+use sph_core::Body;
 use sph_core::{Dim, Probe, Solver, WendlandC2};
 use sph_materials::MaterialModel;
-use sph_mps::{Fit, Integrator, MpsBody, MpsParams, MpsSolver};
+use sph_mps::{Fit, Integrator, MpsParams, MpsSolver};
 
 /// The MPS method names.
 pub const MPS_METHODS: &[&str] = &["mps"];
@@ -109,7 +110,7 @@ pub const MPS_FIELDS: &[&str] = &[
 pub fn run_mps<D: Dim>(
     case: &str,
     p: &Params,
-    body: MpsBody<D>,
+    body: Body<D>,
     material: MaterialModel,
     attach: impl FnOnce(MpsSolver<D, MaterialModel>) -> Result<MpsSolver<D, MaterialModel>, CaseError>,
     end_time: f64,

@@ -1,4 +1,4 @@
-//! CASES.md 1: the oscillating plate (TL paper §4.1, Fig. 2; UL paper §6.1).
+//! Benchmark case 1: the oscillating plate (TL paper §4.1, Fig. 2; UL paper §6.1).
 //!
 //! A plate strip of free length `L` and thickness `H` (centred on y = 0) continues into a
 //! clamping base: the strip extends `base_length` into the base and the base adds
@@ -23,9 +23,9 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{Aabb, Lattice, ParticleSet, Shape};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Probe, Solver, D2};
 use sph_materials::{DeviatorDimension, MaterialKind};
-use sph_tl::TlBody;
 
 /// `kL` of the first cantilever mode (root of cos kL cosh kL = −1, TL eq 36).
 pub const KL: f64 = 1.875;
@@ -244,7 +244,7 @@ impl Case for OscillatingPlate2d {
         let tip_at = DVec2::new(l, 0.0);
         if UL_METHODS.contains(&method) {
             let constants = *sph_materials::Material::<D2>::constants(&mat);
-            let body = sph_ul::UlBody::<D2> {
+            let body = Body::<D2> {
                 positions: set.positions().to_vec(),
                 volumes: set.volumes().to_vec(),
                 dp,
@@ -271,11 +271,12 @@ impl Case for OscillatingPlate2d {
                 summarise,
             );
         }
-        let body = TlBody::<D2> {
+        let body = Body::<D2> {
             positions: set.positions().to_vec(),
             volumes: set.volumes().to_vec(),
             dp,
             velocities,
+            densities: Vec::new(),
         };
         run_tl(
             "oscillating-plate-2d",
@@ -374,7 +375,7 @@ mod tests {
 
     #[test]
     fn thin_plate_periods_match_cases_md() {
-        // CASES.md: T = 0.27009 (ν=0.22), 0.26412 (0.30), 0.25406 (0.3975), 0.25376 (0.40);
+        // the papers: T = 0.27009 (ν=0.22), 0.26412 (0.30), 0.25406 (0.3975), 0.25376 (0.40);
         // printed to 5 digits, so 5e-5 relative.
         for (nu, t) in [
             (0.22, 0.27009),

@@ -1,4 +1,4 @@
-//! CASES.md 9: the simply supported square plate (UL paper §6.2, Fig. 8, eq 31–33).
+//! Benchmark case 9: the simply supported square plate (UL paper §6.2, Fig. 8, eq 31–33).
 //!
 //! Plate L × W × H (0.4 × 0.4 × 0.01), ρ = 1000, E = 1e8, ν = 0.3. Simple supports: the
 //! particles at mid-thickness of the four lateral sides (the outermost column of particles on
@@ -17,6 +17,7 @@ use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Probe, Solver, D3};
 use sph_materials::{Material, MaterialKind};
 
@@ -114,7 +115,7 @@ impl Case for OscillatingPlate3d {
                 )
             })
             .collect();
-        let body = sph_ul::UlBody::<D3> {
+        let body = Body::<D3> {
             positions: set.positions().to_vec(),
             volumes: set.volumes().to_vec(),
             dp,
@@ -176,7 +177,7 @@ mod tests {
 
     #[test]
     fn periods_match_cases_md() {
-        // CASES.md: 0.05322 (1,1), 0.02129 (2,1), 0.01331 (2,2); 4 digits printed → 1e-3.
+        // the papers: 0.05322 (1,1), 0.02129 (2,1), 0.01331 (2,2); 4 digits printed → 1e-3.
         for (mode, t) in [
             ((1.0, 1.0), 0.05322),
             ((2.0, 1.0), 0.02129),

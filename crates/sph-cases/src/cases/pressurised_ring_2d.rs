@@ -1,4 +1,4 @@
-//! CASES.md 14: the rubber ring under internal pressure (MPS paper §IV.A, Fig. 1; after
+//! Benchmark case 14: the rubber ring under internal pressure (MPS paper §IV.A, Fig. 1; after
 //! Rabczuk, Belytschko & Xiao 2004).
 //!
 //! Mooney–Rivlin-like law of MPS eq 12 with the paper's `c1 = 1.265e5`, `c2 = 1.012e4`,
@@ -38,9 +38,10 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::annulus_polar;
+use sph_core::Body;
 use sph_core::{Probe, Solver, D2};
 use sph_materials::{Material, MaterialModel, MooneyRivlinLike};
-use sph_mps::{MpsBody, PressureFunction, SurfacePressure};
+use sph_mps::{PressureFunction, SurfacePressure};
 use std::f64::consts::PI;
 
 /// The pressurised ring.
@@ -170,11 +171,12 @@ impl Case for PressurisedRing2d {
                 probes.push(Probe::particle(&format!("{name}_{k}"), i));
             }
         }
-        let body = MpsBody::<D2> {
+        let body = Body::<D2> {
             positions: pos,
             volumes: set.volumes().to_vec(),
             dp,
             velocities: Vec::new(),
+            densities: Vec::new(),
         };
         let interval = p.f64("probe_interval");
         let (e, nu, g) = (c.youngs_modulus, c.poisson_ratio, c.shear_modulus);

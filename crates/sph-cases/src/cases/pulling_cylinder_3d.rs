@@ -1,4 +1,4 @@
-//! CASES.md 4: the pulling cylinder (TL paper §4.3, Fig. 8).
+//! Benchmark case 4: the pulling cylinder (TL paper §4.3, Fig. 8).
 //!
 //! A rubber cylinder of `radius` and `height` along z (centred at the origin), neo-Hookean with
 //! ν = 0.49, whose top and bottom slices of particles are clamped and pulled apart at
@@ -23,9 +23,9 @@ use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::tube_polar;
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Solver, D3};
 use sph_materials::MaterialKind;
-use sph_tl::TlBody;
 
 /// The pulling cylinder.
 pub struct PullingCylinder3d;
@@ -136,11 +136,12 @@ impl Case for PullingCylinder3d {
         let damping = relaxation(p, rho, e, h)?;
         let interval = p.f64("probe_interval");
         let outer = set.tagged("outer")?;
-        let body = TlBody::<D3> {
+        let body = Body::<D3> {
             positions: x0,
             volumes: volumes.clone(),
             dp,
             velocities: Vec::new(),
+            densities: Vec::new(),
         };
         let summarise = move |s: &dyn Solver<D3>, _: &RunRecord| {
             let mut m = cylinder_summary(s, &volumes, &outer, r, gauge, dz, end_time - hold);

@@ -1,4 +1,4 @@
-//! CASES.md 3: the pulling strip (TL paper §4.3, Fig. 7).
+//! Benchmark case 3: the pulling strip (TL paper §4.3, Fig. 7).
 //!
 //! A rubber square `size × size` (centred at the origin), neo-Hookean, whose top and bottom
 //! `grip_rows` particle rows are pulled apart at `±pull_speed` (smooth start, then a hold; see
@@ -24,9 +24,9 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Solver, TimeFunction, D2};
 use sph_materials::{Material, MaterialKind};
-use sph_tl::TlBody;
 
 /// The pulling strip.
 pub struct PullingStrip2d;
@@ -152,11 +152,12 @@ impl Case for PullingStrip2d {
         let end_time = up.1 + hold;
         let damping = relaxation(p, rho, e, l)?;
         let interval = p.f64("probe_interval");
-        let body = TlBody::<D2> {
+        let body = Body::<D2> {
             positions: x0,
             volumes: volumes.clone(),
             dp,
             velocities: Vec::new(),
+            densities: Vec::new(),
         };
         let (mu, lambda) = (constants.shear_modulus, constants.lame_lambda);
         let summarise = move |s: &dyn Solver<D2>, _: &RunRecord| {

@@ -1,4 +1,4 @@
-//! CASES.md 2: the punching strip (TL paper §4.2, Fig. 5–6).
+//! Benchmark case 2: the punching strip (TL paper §4.2, Fig. 5–6).
 //!
 //! A rubber strip `width × height` (centred at the origin), neo-Hookean, compressed between two
 //! rigid punches of `punch_width × punch_thickness` that start touching its top and bottom faces
@@ -27,9 +27,9 @@ use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
+use sph_core::Body;
 use sph_core::{Solver, D2};
 use sph_materials::{Material, MaterialKind};
-use sph_tl::TlBody;
 
 /// The punching strip.
 pub struct PunchingStrip2d;
@@ -123,11 +123,12 @@ impl Case for PunchingStrip2d {
         let constants = *Material::<D2>::constants(&mat);
         let (set, dp) = strip_particles(w, h, p.int("resolution"))?;
         let volumes = set.volumes().to_vec();
-        let body = TlBody::<D2> {
+        let body = Body::<D2> {
             positions: set.positions().to_vec(),
             volumes: volumes.clone(),
             dp,
             velocities: Vec::new(),
+            densities: Vec::new(),
         };
         let compression = p.f64("compression");
         let speed = p.f64("punch_speed");

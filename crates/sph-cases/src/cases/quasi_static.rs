@@ -88,7 +88,7 @@ pub fn relaxation(
 /// (`ψ = (μ/2)(I₁ − 3) − μ ln J + (λ/2)(ln J)²`, `λ_z = 1`) between frictionless platens that
 /// impose `λ_y`, with `σ_xx = 0`: solves `μ(λ_x² − 1) + λ ln(λ_x λ_y) = 0` for `λ_x` (its left
 /// side increases monotonically in `λ_x`) and returns `(λ_x, P_yy)` with the nominal stress
-/// `P_yy = [μ(λ_y² − 1) + λ ln(λ_x λ_y)]/λ_y` (METHODS.md); the force per unit depth is `P_yy`
+/// `P_yy = [μ(λ_y² − 1) + λ ln(λ_x λ_y)]/λ_y` (docs/methods.md); the force per unit depth is `P_yy`
 /// times the reference width.
 pub fn homogeneous_plane_strain(mu: f64, lambda: f64, stretch_y: f64) -> (f64, f64) {
     let residual = |lx: f64| mu * (lx * lx - 1.0) + lambda * (lx * stretch_y).ln();

@@ -1,4 +1,4 @@
-//! CASES.md 15: a slab in pure tension (MPS paper §IV.B, Fig. 2).
+//! Benchmark case 15: a slab in pure tension (MPS paper §IV.B, Fig. 2).
 //!
 //! Slab 3 cm × 1 cm (centred on the origin), SVK with `K = 3.25e6`, `μ = 7.15e5`, `ρ = 1000`.
 //! The particles in the end strips 0.2 cm wide are moved with the prescribed velocity
@@ -31,9 +31,9 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Field, Solver, TimeFunction, D2};
 use sph_materials::{ElasticConstants, MaterialKind};
-use sph_mps::MpsBody;
 
 /// The slab in tension.
 pub struct SlabTension2d;
@@ -155,11 +155,12 @@ impl Case for SlabTension2d {
         let mut constraints = Constraints::new();
         constraints.push(grip(left, -1.0), n)?;
         constraints.push(grip(right, 1.0), n)?;
-        let body = MpsBody::<D2> {
+        let body = Body::<D2> {
             positions: set.positions().to_vec(),
             volumes: set.volumes().to_vec(),
             dp,
             velocities: Vec::new(),
+            densities: Vec::new(),
         };
         run_mps(
             "slab-tension-2d",

@@ -1,4 +1,4 @@
-//! CASES.md 18: static equilibrium of a cantilever beam under a tip load (MPS paper §IV.E,
+//! Benchmark case 18: static equilibrium of a cantilever beam under a tip load (MPS paper §IV.E,
 //! Fig. 6).
 //!
 //! Beam `L × H = 0.16 × 0.02` (x from 0 to L, centred on y = 0), `dp = H/resolution`
@@ -26,9 +26,9 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
+use sph_core::Body;
 use sph_core::{Constraint, Constraints, Loads, Solver, TimeFunction, D2};
 use sph_materials::{ElasticConstants, MaterialKind};
-use sph_mps::MpsBody;
 
 /// The static cantilever.
 pub struct StaticCantilever2d;
@@ -128,11 +128,12 @@ impl Case for StaticCantilever2d {
         let mut constraints = Constraints::new();
         constraints.push(Constraint::Fixed { particles: clamp }, n)?;
         let reference = set.positions().to_vec();
-        let body = MpsBody::<D2> {
+        let body = Body::<D2> {
             positions: reference.clone(),
             volumes: set.volumes().to_vec(),
             dp,
             velocities: Vec::new(),
+            densities: Vec::new(),
         };
         let arm = l - 0.5 * dp;
         let interval = p.f64("probe_interval");

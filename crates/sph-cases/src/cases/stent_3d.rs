@@ -1,4 +1,4 @@
-//! CASES.md 7: a Palmaz–Schatz-like stent (TL paper §4.6, Fig. 19–21).
+//! Benchmark case 7: a Palmaz–Schatz-like stent (TL paper §4.6, Fig. 19–21).
 //!
 //! # Geometry (procedural; the paper's CAD file is not available)
 //! A slotted tube in its expanded state: a thin-walled tube of `length` L, outer `diameter` D
@@ -33,9 +33,9 @@ use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{tube_polar, ParticleSet};
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
+use sph_core::Body;
 use sph_core::{Field, Loads, Solver, TimeFunction, D3};
 use sph_materials::MaterialKind;
-use sph_tl::TlBody;
 use std::f64::consts::PI;
 
 /// The stent.
@@ -280,11 +280,12 @@ impl Case for Stent3d {
                 tools.push(RigidTool::new(name, shape, motion));
             }
         }
-        let body = TlBody::<D3> {
+        let body = Body::<D3> {
             positions: x0.clone(),
             volumes: set.volumes().to_vec(),
             dp,
             velocities: Vec::new(),
+            densities: Vec::new(),
         };
         let interval = p.f64("probe_interval");
         let summarise = move |s: &dyn Solver<D3>, _: &RunRecord| {

@@ -5,9 +5,10 @@ use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::{drive, RunOptions, RunRecord, Schedule};
 use serde_json::{json, Map, Value as Json};
+use sph_core::Body;
 use sph_core::{Dim, Solver};
 use sph_materials::{ElasticConstants, MaterialKind, MaterialModel};
-use sph_tl::{Shear, TlBody, TlParams, TlSolver};
+use sph_tl::{Shear, TlParams, TlSolver};
 
 /// The TL methods.
 pub const TL_METHODS: &[&str] = &["tl-hf", "tl", "tl-gm"];
@@ -157,7 +158,7 @@ pub fn run_tl<D: Dim>(
     case: &str,
     method: &str,
     p: &Params,
-    body: TlBody<D>,
+    body: Body<D>,
     material: MaterialModel,
     attach: impl FnOnce(TlSolver<D, MaterialModel>) -> Result<TlSolver<D, MaterialModel>, CaseError>,
     end_time: f64,

@@ -1,4 +1,4 @@
-//! CASES.md 6: the twisting column (TL paper §4.5, Fig. 14–18).
+//! Benchmark case 6: the twisting column (TL paper §4.5, Fig. 14–18).
 //!
 //! The bending column's geometry (axis along z here; the paper's axis is y) with the initial
 //! angular velocity `ω = [0, 0, Ω0 sin(π z0 / 2L)]` about the column's axis, i.e.

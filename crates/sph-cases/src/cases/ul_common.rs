@@ -6,9 +6,10 @@ use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::{drive, RunOptions, RunRecord};
 use serde_json::{json, Map, Value as Json};
+use sph_core::Body;
 use sph_core::{Dim, Solver};
 use sph_materials::ElasticConstants;
-use sph_ul::{LaplacianForm, RiemannScheme, Shear, Stepping, UlBody, UlParams, UlSolver};
+use sph_ul::{LaplacianForm, RiemannScheme, Shear, Stepping, UlParams, UlSolver};
 
 /// The UL methods.
 pub const UL_METHODS: &[&str] = &["ul-enog", "ul-og", "ul-oas"];
@@ -69,7 +70,7 @@ pub fn ul_params() -> Vec<Param> {
             "refresh_kernel_data",
             true,
             "recompute e_ij, r_ij, W, W′ from the current positions in every acoustic sub-step \
-             (the list and B stay those of the rebuild); false = METHODS.md's frozen data: \
+             (the list and B stay those of the rebuild); false = docs/methods.md's frozen data: \
              1.4–1.6× faster per sub-step but the plate softens secularly (period +7 % in 3 s)",
         ),
         Param::bool(
@@ -157,7 +158,7 @@ pub fn run_ul<D: Dim>(
     case: &str,
     method: &str,
     p: &Params,
-    body: UlBody<D>,
+    body: Body<D>,
     constants: ElasticConstants,
     attach: impl FnOnce(UlSolver<D>) -> Result<UlSolver<D>, CaseError>,
     end_time: f64,

@@ -14,7 +14,7 @@ use sph_core::Dim;
 #[serde(rename_all = "kebab-case")]
 pub enum DeviatorDimension {
     /// `d = D::D` (`d = 2` in 2D), as the TL paper writes eq. 12–14 and SPHinXsys implements
-    /// them; METHODS.md's default. In 2D this is a genuinely two-dimensional material: its
+    /// them; docs/methods.md's default. In 2D this is a genuinely two-dimensional material: its
     /// small-strain limit is `σ = (K − G) tr(ε) I + 2G ε` in-plane, not plane-strain Hooke
     /// (`λ = K − 2G/3`), i.e. the in-plane response of a plane-strain solid whose Poisson's
     /// ratio is slightly different from the one given.

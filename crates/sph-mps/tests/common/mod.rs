@@ -2,10 +2,11 @@
 #![allow(dead_code)]
 
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
+use sph_core::Body;
 use sph_core::Dim;
 use sph_materials::Material;
 use sph_materials::{ElasticConstants, MooneyRivlinLike, SaintVenantKirchhoff};
-use sph_mps::{MpsBody, MpsParams, MpsSolver};
+use sph_mps::{MpsParams, MpsSolver};
 
 /// Particle spacing of every body here (the MPS paper's cantilever beam: 2 mm).
 pub const DP: f64 = 0.002;
@@ -27,12 +28,13 @@ pub fn block<D: Dim>(n: [usize; 3]) -> ParticleSet<D> {
     ParticleSet::fill(&lattice, &Aabb::<D>::from_corner(D::zero(), size).unwrap()).unwrap()
 }
 
-pub fn body<D: Dim>(set: &ParticleSet<D>) -> MpsBody<D> {
-    MpsBody {
+pub fn body<D: Dim>(set: &ParticleSet<D>) -> Body<D> {
+    Body {
         positions: set.positions().to_vec(),
         volumes: set.volumes().to_vec(),
         dp: DP,
         velocities: Vec::new(),
+        densities: Vec::new(),
     }
 }
 

@@ -1,0 +1,218 @@
+//! The particles of one body in their initial configuration: what every solver is built from.
+//!
+//! ```
+//! use sph_core::generate::{Aabb, Lattice, ParticleSet};
+//! use sph_core::{Body, D2};
+//! use glam::DVec2;
+//!
+//! // A 0.2 × 0.02 plate on a lattice of spacing 1 mm, moving up at 1 m/s.
+//! let shape = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(0.2, 0.02))?;
+//! let set = ParticleSet::fill(&Lattice::new(1e-3, DVec2::ZERO)?, &shape)?;
+//! let body = Body::from(set).with_velocity(|_| DVec2::new(0.0, 1.0));
+//! assert_eq!(body.len(), 200 * 20);
+//! assert_eq!(body.dp, 1e-3);
+//! # Ok::<(), sph_core::Error>(())
+//! ```
+
+use crate::dim::Dim;
+use crate::error::{check_positive, Error};
+use crate::generate::ParticleSet;
+
+/// The particles of one body: initial positions (the reference configuration of the
+/// total-Lagrangian methods), volumes, the spacing `dp` that sets the kernel, and optional
+/// initial velocities and densities. Masses are `ρ0 V` with the material's `ρ0`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Body<D: Dim> {
+    /// Initial positions.
+    pub positions: Vec<D::Vector>,
+    /// Initial volumes `V⁰`.
+    pub volumes: Vec<f64>,
+    /// Initial particle spacing `dp` (sets `h`).
+    pub dp: f64,
+    /// Initial velocities (empty: at rest).
+    pub velocities: Vec<D::Vector>,
+    /// Initial densities (empty: `ρ0` everywhere). Only the updated-Lagrangian method, whose
+    /// state carries a density, can start from other densities; the others refuse them.
+    pub densities: Vec<f64>,
+}
+
+impl<D: Dim> Body<D> {
+    /// A body at rest with reference density.
+    pub fn new(positions: Vec<D::Vector>, volumes: Vec<f64>, dp: f64) -> Self {
+        Self {
+            positions,
+            volumes,
+            dp,
+            velocities: Vec::new(),
+            densities: Vec::new(),
+        }
+    }
+
+    /// The body of a generated set with spacing `dp`.
+    pub fn from_set(set: ParticleSet<D>, dp: f64) -> Self {
+        let (positions, volumes, _) = set.into_parts();
+        Self::new(positions, volumes, dp)
+    }
+
+    /// With initial velocities `v(x)` (evaluated at each initial position).
+    pub fn with_velocity(mut self, v: impl Fn(D::Vector) -> D::Vector) -> Self {
+        self.velocities = self.positions.iter().map(|&x| v(x)).collect();
+        self
+    }
+
+    /// With the given initial velocities (one per particle).
+    pub fn with_velocities(mut self, v: Vec<D::Vector>) -> Self {
+        self.velocities = v;
+        self
+    }
+
+    /// With the given initial densities (one per particle; updated-Lagrangian only).
+    pub fn with_densities(mut self, rho: Vec<f64>) -> Self {
+        self.densities = rho;
+        self
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Whether the body has no particles.
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
+    }
+
+    /// Checks what every solver needs: particles, a positive spacing, one finite volume `> 0`
+    /// per particle, finite positions, and velocities (densities) either absent or one per
+    /// particle. `what` names the body in the errors.
+    ///
+    /// # Errors
+    /// The first violation, naming the field and the allowed range.
+    pub fn validate(&self, what: &str) -> Result<(), Error> {
+        let n = self.len();
+        if n == 0 {
+            return Err(Error::EmptyBody { body: what.into() });
+        }
+        check_positive("dp", self.dp)?;
+        if self.volumes.len() != n {
+            return Err(Error::invalid(
+                "volumes",
+                self.volumes.len(),
+                &format!("one per particle ({n})"),
+            ));
+        }
+        if let Some(i) = self
+            .volumes
+            .iter()
+            .position(|v| !(v.is_finite() && *v > 0.0))
+        {
+            return Err(Error::invalid(
+                &format!("volumes[{i}]"),
+                self.volumes[i],
+                "> 0 and finite",
+            ));
+        }
+        if let Some(i) = self.positions.iter().position(|&x| !D::is_finite(x)) {
+            return Err(Error::invalid(
+                &format!("positions[{i}]"),
+                format!("{:?}", self.positions[i]),
+                "finite",
+            ));
+        }
+        for (name, len) in [
+            ("velocities", self.velocities.len()),
+            ("densities", self.densities.len()),
+        ] {
+            if len != 0 && len != n {
+                return Err(Error::invalid(
+                    name,
+                    len,
+                    &format!("empty or one per particle ({n})"),
+                ));
+            }
+        }
+        if let Some(i) = self.velocities.iter().position(|&v| !D::is_finite(v)) {
+            return Err(Error::invalid(
+                &format!("velocities[{i}]"),
+                format!("{:?}", self.velocities[i]),
+                "finite",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuses initial densities (for the methods whose density follows from the deformation).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `densities` when some are given.
+    pub fn reject_densities(&self, method: &str) -> Result<(), Error> {
+        if self.densities.is_empty() {
+            Ok(())
+        } else {
+            Err(Error::invalid(
+                "densities",
+                format!("{} values", self.densities.len()),
+                &format!("none: {method} takes the density from the material and the deformation"),
+            ))
+        }
+    }
+
+    /// The initial velocities, zero where none were given.
+    pub fn velocities_or_rest(&self) -> Vec<D::Vector> {
+        if self.velocities.is_empty() {
+            vec![D::zero(); self.len()]
+        } else {
+            self.velocities.clone()
+        }
+    }
+}
+
+/// A generated set becomes a body with the spacing its generator used
+/// ([`ParticleSet::spacing`]), or, for a set assembled from parts, `(mean volume)^(1/d)`.
+impl<D: Dim> From<ParticleSet<D>> for Body<D> {
+    fn from(set: ParticleSet<D>) -> Self {
+        let dp = set.spacing().unwrap_or_else(|| {
+            let n = set.len().max(1) as f64;
+            (set.total_volume() / n).powf(1.0 / D::D as f64)
+        });
+        Self::from_set(set, dp)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dim::D2;
+    use glam::DVec2;
+
+    #[test]
+    fn validation_names_the_field() {
+        let good = Body::<D2>::new(vec![DVec2::ZERO, DVec2::X], vec![1.0, 1.0], 1.0);
+        assert!(good.validate("b").is_ok());
+        let e = Body::<D2>::new(vec![], vec![], 1.0).validate("wall");
+        assert!(e.unwrap_err().to_string().contains("wall"));
+        let e = Body::<D2>::new(vec![DVec2::ZERO], vec![0.0], 1.0).validate("b");
+        assert!(e.unwrap_err().to_string().contains("volumes[0]"));
+        let e = good
+            .clone()
+            .with_velocities(vec![DVec2::ZERO])
+            .validate("b");
+        assert!(e.unwrap_err().to_string().contains("velocities"));
+        let e = good.clone().with_densities(vec![1.0]).validate("b");
+        assert!(e.unwrap_err().to_string().contains("densities"));
+        assert!(good
+            .clone()
+            .with_densities(vec![1.0, 1.0])
+            .reject_densities("tl")
+            .is_err());
+        let e = Body::<D2>::new(vec![DVec2::ZERO], vec![1.0], -1.0).validate("b");
+        assert!(e.unwrap_err().to_string().contains("dp"));
+    }
+
+    #[test]
+    fn a_set_from_parts_gets_the_spacing_of_its_mean_volume() {
+        let set = ParticleSet::<D2>::from_parts(vec![DVec2::ZERO; 2], vec![0.04, 0.04]).unwrap();
+        let b = Body::from(set);
+        assert!((b.dp - 0.2).abs() < 1e-15);
+    }
+}

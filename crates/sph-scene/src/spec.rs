@@ -1,0 +1,272 @@
+//! The scene file's contents as Rust types (deserialised from TOML with `serde`; every table
+//! refuses unknown keys). See the crate documentation for the format.
+
+use serde::Deserialize;
+use toml::Spanned;
+
+/// A whole scene.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSpec {
+    /// Name (results file `<name>-<method>.h5`; default: the file's stem).
+    pub name: Option<String>,
+    /// 2 (plane strain) or 3.
+    pub dimension: Spanned<u32>,
+    /// `tl`, `tl-hf`, `tl-gm`, `ul-og`, `ul-oas`, `ul-enog` or `mps`.
+    pub method: Spanned<String>,
+    /// Simulated end time (s).
+    pub end_time: Spanned<f64>,
+    /// The material of every body.
+    pub material: Spanned<MaterialSpec>,
+    /// Method parameters (keys of the method family; see the crate documentation).
+    pub numerics: Option<Spanned<toml::Table>>,
+    /// Output schedule.
+    #[serde(default)]
+    pub output: OutputSpec,
+    /// The bodies (at least one).
+    #[serde(rename = "body")]
+    pub bodies: Vec<Spanned<BodySpec>>,
+    /// Constraints on regions of the bodies.
+    #[serde(default, rename = "constraint")]
+    pub constraints: Vec<Spanned<ConstraintSpec>>,
+    /// Body accelerations and point forces.
+    #[serde(default, rename = "load")]
+    pub loads: Vec<Spanned<LoadSpec>>,
+    /// Probes (material points whose position and velocity are recorded).
+    #[serde(default, rename = "probe")]
+    pub probes: Vec<Spanned<ProbeSpec>>,
+    /// Rigid tools in frictionless contact (TL methods).
+    #[serde(default, rename = "tool")]
+    pub tools: Vec<Spanned<ToolSpec>>,
+    /// Quasi-static relaxation (TL methods).
+    pub relaxation: Option<Spanned<RelaxationSpec>>,
+}
+
+/// The material: a law and its constants (Young's modulus and Poisson's ratio, or bulk and
+/// shear moduli).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// `neo-hookean`, `linear-elastic`, `saint-venant-kirchhoff`, `kirchhoff-vol-dev`,
+    /// `mooney-rivlin` (the updated-Lagrangian methods use only the constants).
+    #[serde(default = "default_law")]
+    pub law: String,
+    /// Density ρ0 (kg/m³).
+    pub density: f64,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio ν.
+    pub nu: Option<f64>,
+    /// Bulk modulus K (Pa), with `shear_modulus` instead of E and ν.
+    pub bulk_modulus: Option<f64>,
+    /// Shear modulus G (Pa).
+    pub shear_modulus: Option<f64>,
+}
+
+fn default_law() -> String {
+    "neo-hookean".into()
+}
+
+/// When the run writes and samples.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Simulated time between snapshots (default `end_time/50`; 0: first and last only).
+    pub snapshot_interval: Option<f64>,
+    /// Time between disorder/energy samples (default `end_time/200`).
+    pub monitor_interval: Option<f64>,
+    /// Time between probe samples (default 0: every step).
+    pub probe_interval: Option<f64>,
+    /// Fields written with every snapshot (default: velocity, displacement, von_mises,
+    /// jacobian, density, disorder where the method offers them).
+    pub fields: Option<Vec<String>>,
+}
+
+/// A region of space. In TOML a one-key table: `{ box = { min = [..], max = [..] } }`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// Axis-aligned box (rectangle in 2D).
+    Box {
+        /// Lower corner.
+        min: Vec<f64>,
+        /// Upper corner.
+        max: Vec<f64>,
+    },
+    /// Disc (2D) or ball (3D).
+    Ball {
+        /// Centre.
+        centre: Vec<f64>,
+        /// Radius.
+        radius: f64,
+    },
+    /// Annulus (2D) or spherical shell (3D): `inner ≤ |x − centre| ≤ outer`.
+    Shell {
+        /// Centre.
+        centre: Vec<f64>,
+        /// Inner radius.
+        inner: f64,
+        /// Outer radius.
+        outer: f64,
+    },
+    /// Cylinder or tube (3D): from `base` along `axis` over `length`, `inner ≤ r ≤ radius`.
+    Cylinder {
+        /// Centre of the base disc.
+        base: Vec<f64>,
+        /// Direction of the axis.
+        axis: Vec<f64>,
+        /// Outer radius.
+        radius: f64,
+        /// Length along the axis.
+        length: f64,
+        /// Inner radius (0: solid).
+        #[serde(default)]
+        inner: f64,
+    },
+    /// Points in any of the parts.
+    Union(Vec<ShapeSpec>),
+    /// Points in every part.
+    Intersection(Vec<ShapeSpec>),
+    /// Points of `base` not in `cut`.
+    Difference {
+        /// The shape.
+        base: Box<ShapeSpec>,
+        /// What is removed.
+        cut: Box<ShapeSpec>,
+    },
+}
+
+/// One body: its particles (a shape filled at spacing `dp`, or a particle file) and initial
+/// velocity.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Name (constraints and loads refer to it).
+    pub name: String,
+    /// Particle spacing.
+    pub dp: f64,
+    /// The shape to fill (or `particles`).
+    pub shape: Option<ShapeSpec>,
+    /// `lattice` (default: a Cartesian lattice whose cell faces pass through the shape's
+    /// lower bound) or `polar` (concentric layers: a 2D ball or shell, a 3D cylinder).
+    #[serde(default = "default_layout")]
+    pub layout: String,
+    /// A CSV particle file (`x,y[,z],volume` per line, `#` comments), relative to the scene
+    /// file, instead of `shape`.
+    pub particles: Option<String>,
+    /// Uniform initial velocity.
+    pub velocity: Option<Vec<f64>>,
+}
+
+fn default_layout() -> String {
+    "lattice".into()
+}
+
+/// A constraint on the particles of a region.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintSpec {
+    /// `fixed`, `velocity` (prescribed) or `components` (only the components set in
+    /// `components` prescribed; a roller grip).
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// Where (a shape; particles inside it).
+    pub region: ShapeSpec,
+    /// The body it applies to (default: every body).
+    pub body: Option<String>,
+    /// A name: the run records the reaction force the constraint receives as a series.
+    pub name: Option<String>,
+    /// Prescribed velocity (`velocity`, `components`).
+    pub velocity: Option<Vec<f64>>,
+    /// Prescribed components (`components`).
+    pub components: Option<Vec<bool>>,
+}
+
+/// A load.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    /// `gravity` (a body acceleration) or `point` (a force on the particle nearest `at`).
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// Acceleration (`gravity`).
+    pub acceleration: Option<Vec<f64>>,
+    /// Force in newtons (per unit depth in 2D) (`point`).
+    pub force: Option<Vec<f64>>,
+    /// Where the point force acts (`point`).
+    pub at: Option<Vec<f64>>,
+    /// Where gravity acts (default: everywhere).
+    pub region: Option<ShapeSpec>,
+}
+
+/// A probe on a material point.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSpec {
+    /// Name (`/probes/<name>`).
+    pub name: String,
+    /// Reference position.
+    pub at: Vec<f64>,
+}
+
+/// A rigid tool.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ToolSpec {
+    /// Name (`/series/<name>` records its travel and reaction).
+    pub name: String,
+    /// `box` or `ball`, or `half-space = { point = [..], normal = [..] }`.
+    pub shape: ToolShapeSpec,
+    /// Direction of travel (default: no motion).
+    pub direction: Option<Vec<f64>>,
+    /// Speed (m/s, default 0).
+    #[serde(default)]
+    pub speed: f64,
+    /// Smooth start (s, default 0).
+    #[serde(default)]
+    pub ramp_time: f64,
+    /// Travel after which it stops (m, default: never).
+    pub travel: Option<f64>,
+}
+
+/// A tool's shape.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ToolShapeSpec {
+    /// Axis-aligned box.
+    Box {
+        /// Lower corner.
+        min: Vec<f64>,
+        /// Upper corner.
+        max: Vec<f64>,
+    },
+    /// Disc or ball.
+    Ball {
+        /// Centre.
+        centre: Vec<f64>,
+        /// Radius.
+        radius: f64,
+    },
+    /// Half-space whose surface passes through `point` and faces along `normal`.
+    HalfSpace {
+        /// A point of the surface.
+        point: Vec<f64>,
+        /// Outward normal.
+        normal: Vec<f64>,
+    },
+}
+
+/// Quasi-static relaxation: the pairwise damping with `η = (β/4)√(ρ0 E) L`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RelaxationSpec {
+    /// β (default 1).
+    #[serde(default = "one")]
+    pub beta: f64,
+    /// The body size L along the load (m).
+    pub length: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
