@@ -49,7 +49,8 @@ enum Command {
     },
     /// MPS validation runs (MPS paper §IV) and the stabilisation study, then the report.
     Mps {
-        /// Include the slab at the paper's resolution (hours).
+        /// Include the slab at the paper's resolution (hours) and the H/dp = 20 plate with the
+        /// frame clamp.
         #[arg(long)]
         full: bool,
         /// Include the stabilisation study's H/dp = 20 plate and H/dp = 40 static cantilever.
