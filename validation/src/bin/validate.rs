@@ -104,8 +104,9 @@ fn main() -> ExitCode {
         }
     }
     if let Command::Mps { full, fine, force } = cli.command {
-        if let Err(e) = mps::run_all(mps::Selection { force, full })
-            .and_then(|_| mps_stab::run_all(mps_stab::Selection { force, fine }))
+        // The stabilisation study first: it holds the paper's model on the ring and the slab.
+        if let Err(e) = mps_stab::run_all(mps_stab::Selection { force, fine })
+            .and_then(|_| mps::run_all(mps::Selection { force, full }))
         {
             eprintln!("error: {e}");
             return ExitCode::from(1);
