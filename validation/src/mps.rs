@@ -6,7 +6,9 @@
 use crate::frames::{frame_at, p99_value, rings_roughness};
 use crate::plot::{line_plot, Series};
 use crate::plot::{particle_frames, Frame};
-use crate::store::{fmt_opt, load, pct, rel, run_or_load, run_or_load_then, status};
+use crate::store::{
+    command_for, cost_estimate, fmt_opt, load, pct, rel, run_or_load, run_or_load_then, status,
+};
 use sph_cases::CaseError;
 use sph_core::Body;
 use std::fmt::Write as _;
@@ -621,15 +623,34 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
     )
     .unwrap();
     if load(SLAB_FULL_ID).is_none() {
+        let set = |end: &str| -> Vec<String> {
+            vec![
+                "resolution=62".into(),
+                format!("end_time={end}"),
+                "snapshot_interval=0.05".into(),
+                "grip=roller".into(),
+            ]
+        };
+        let like = [slab20.clone()];
+        let like_stab = [crate::mps_stab::slab_id(crate::mps_stab::ALPHA_DEFAULT)];
+        let est = |end: &str, like: &[String]| {
+            cost_estimate("slab-tension-2d", "mps", &set(end), like)
+                .unwrap_or_else(|| "no estimate".into())
+        };
         writeln!(
             md,
-            "The slab at the paper's resolution (H/dp = 62, 11,532 particles) to t = 1 s was not \
-             run: `sph run slab-tension-2d --method mps --dry-run` estimates 3.53·10⁶ steps and \
-             4.1·10¹⁰ particle-steps, i.e. about 2 h at the 6·10⁶ particle-steps/s the MPS \
-             runs here reached on a shared 2-core machine (and longer when it is busy). Command: \
-             `cargo run --release -p sph-cases --bin sph -- run slab-tension-2d --method mps \
-             --set resolution=62 --set end_time=1 --set grip=roller` (add \
-             `--set stabilisation=0.3` for the stabilised model).\n"
+            "The slab at the paper's resolution (H/dp = 62) was not run. To the paper's t = 1 s \
+             (`sph run … --dry-run`, rate of the H/dp = 20 slab): {}; but the material gives out \
+             first (see the stabilised section: the H/dp = 20 runs stop at t ≈ 0.13–0.2 s), so \
+             to t = 0.2 s: {} — with the stabilisation (α = {}, rate of its H/dp = 20 slab): {}. \
+             Command: `{}` (add `--set stabilisation={}` for the stabilised model; \
+             `validate mps --full` makes it).\n",
+            est("1", &like),
+            est("0.2", &like),
+            crate::mps_stab::ALPHA_DEFAULT,
+            est("0.2", &like_stab),
+            command_for(SLAB_FULL_ID, "slab-tension-2d", "mps", &set("1")),
+            crate::mps_stab::ALPHA_DEFAULT,
         )
         .unwrap();
     }

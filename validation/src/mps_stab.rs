@@ -422,7 +422,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
          at full size while F does not see it, now costs energy with stiffness α μ; an affine \
          motion costs nothing. The force is `−∂U_s/∂x` (pair terms plus a stress term through \
          F), so momentum, angular momentum and energy are conserved as before (tests in \
-         crates/sph-mps/tests/stabilisation.rs: forces against finite differences ≤ 3.5e-10, \
+         crates/sph-mps/tests/stabilisation.rs: forces against finite differences ≤ 4.2e-10, \
          momenta to round-off, energy without drift over 2·10⁴ steps, the mode's stiffness \
          against its closed form to 1.2e-14). The sweep: slab (H/dp = {SLAB_RES}, roller grips, \
          t ≤ 0.15 s, see below; the disorder also over its middle third, where the paper \

@@ -278,3 +278,90 @@ pub fn status(r: &StoredRun) -> &str {
 pub fn rel(a: Option<f64>, b: Option<f64>) -> Option<f64> {
     a.zip(b).map(|(a, b)| a / b - 1.0)
 }
+
+/// The cost of a run not made: its dry-run estimate (`sph run … --dry-run`: the scene is
+/// built and checked, nothing is run) and the wall time it would take at the particle-step
+/// rates the stored runs `like` reached on this machine (their `particle_steps_per_second`,
+/// slowest and fastest). Returns e.g. "21,952 particles × 1.24·10⁵ steps = 2.7·10⁹
+/// particle-steps, 6–16 min at the 2.8–7.7·10⁶ particle-steps/s of 3 stored runs", or `None`
+/// when the case rejects the set or no stored run gives a rate.
+pub fn cost_estimate(case: &str, method: &str, set: &[String], like: &[String]) -> Option<String> {
+    let c = find_case(case).ok()?;
+    let method = resolve_method(c, Some(method)).ok()?;
+    let mut params = c.params_for(method);
+    for a in set {
+        params.apply_assignment(a).ok()?;
+    }
+    let options = RunOptions {
+        dry_run: true,
+        ..Default::default()
+    };
+    let (_, summary) = c.run(method, &params, &options).ok()?;
+    let particles = summary.get("particles")?.as_f64()?;
+    let steps = summary.get("steps_estimate")?.as_f64()?;
+    let rates: Vec<f64> = like
+        .iter()
+        .filter_map(|id| load(id)?.num("particle_steps_per_second"))
+        .collect();
+    let lo = rates.iter().copied().reduce(f64::min)?;
+    let hi = rates.iter().copied().reduce(f64::max)?;
+    let work = particles * steps;
+    let minutes = |rate: f64| work / rate / 60.0;
+    Some(format!(
+        "{} particles × {} steps = {} particle-steps, {}–{} min of wall time at the {}–{} \
+         particle-steps/s of {} stored run{}",
+        thousands(particles),
+        sci(steps),
+        sci(work),
+        minutes(hi).round(),
+        minutes(lo).round(),
+        sci(lo),
+        sci(hi),
+        rates.len(),
+        if rates.len() == 1 { "" } else { "s" },
+    ))
+}
+
+/// `12572` → `12,572`.
+fn thousands(x: f64) -> String {
+    let s = format!("{:.0}", x);
+    let mut out = String::new();
+    for (i, ch) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(ch);
+    }
+    out
+}
+
+/// `2.7e9` → `2.7·10⁹`.
+fn sci(x: f64) -> String {
+    let e = x.abs().log10().floor() as i32;
+    let m = x / 10f64.powi(e);
+    let sup: String =
+        e.to_string()
+            .chars()
+            .map(|c| match c {
+                '-' => '⁻',
+                d => ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹']
+                    [d.to_digit(10).unwrap() as usize],
+            })
+            .collect();
+    format!("{m:.2}·10{sup}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{sci, thousands};
+
+    #[test]
+    fn numbers_print_readably() {
+        assert_eq!(thousands(12572.0), "12,572");
+        assert_eq!(thousands(200000.0), "200,000");
+        assert_eq!(thousands(830.0), "830");
+        assert_eq!(sci(2.73e9), "2.73·10⁹");
+        assert_eq!(sci(115706.0), "1.16·10⁵");
+        assert_eq!(sci(3.5e-6), "3.50·10⁻⁶");
+    }
+}

@@ -4,7 +4,10 @@
 
 use crate::frames::{frame_at, has_moving_windows, peak, rings_roughness, roughness_series};
 use crate::plot::{line_plot, particle_frames, Frame, Series};
-use crate::store::{fmt_opt, load, pct, rel, run_or_load, run_or_load_then, status, StoredRun};
+use crate::store::{
+    command_for, cost_estimate, fmt_opt, load, pct, rel, run_or_load, run_or_load_then, status,
+    StoredRun,
+};
 use sph_cases::CaseError;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -271,12 +274,9 @@ fn period(r: &Option<StoredRun>) -> Option<f64> {
 
 /// Particle-steps per second of a stored run, in millions (`2.41e6`), or `–`.
 fn rate(r: &Option<StoredRun>) -> String {
-    fmt_opt(
-        r.as_ref()
-            .and_then(|r| r.num("particle_steps_per_second"))
-            .map(|x| x / 1e6),
-        2,
-    ) + "e6"
+    r.as_ref()
+        .and_then(|r| r.num("particle_steps_per_second"))
+        .map_or("–".into(), |x| format!("{:.2}e6", x / 1e6))
 }
 
 fn state(r: &Option<StoredRun>) -> String {
@@ -341,6 +341,45 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         .unwrap();
     }
     writeln!(md).unwrap();
+    let missing: Vec<String> = TABLE1
+        .iter()
+        .flat_map(|&(vf, _, _)| {
+            [
+                (
+                    plate_id("ul-enog", 30, vf, "frame"),
+                    format!("ENOG v_f = {vf}"),
+                ),
+                (oas_corrected_id(30, vf), format!("OAS (B) v_f = {vf}")),
+            ]
+        })
+        .filter(|(id, _)| load(id).is_none())
+        .map(|(_, what)| what)
+        .collect();
+    if !missing.is_empty() {
+        let like: Vec<String> = TABLE1
+            .iter()
+            .flat_map(|&(vf, _, _)| {
+                [
+                    plate_id("ul-enog", 30, vf, "frame"),
+                    plate_id("ul-enog", 30, vf, "solid"),
+                    plate_id("ul-oas", 30, vf, "solid"),
+                ]
+            })
+            .collect();
+        let cost = cost_estimate(
+            "oscillating-plate-2d",
+            "ul-enog",
+            &plate_set(30, 0.01, "frame"),
+            &like,
+        )
+        .unwrap_or_else(|| "no estimate".into());
+        writeln!(
+            md,
+            "Not run with the frame clamp yet: {}. `validate ul` makes them; one run (ENOG,              v_f = 0.01, `sph run … --dry-run`): {cost}.\n",
+            missing.join(", ")
+        )
+        .unwrap();
+    }
     let disorder =
         |r: &Option<StoredRun>| fmt_opt(r.as_ref().and_then(|r| r.num("max_disorder")), 3);
     let (of, ob) = (
@@ -568,6 +607,44 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         }
     }
     writeln!(md).unwrap();
+    let like: Vec<String> = TABLE3.iter().map(|t| plate3d_id(3, t.0)).collect();
+    let mut finer = Vec::new();
+    for (mode, res) in [((1, 1), 5), ((2, 1), 5), ((2, 2), 5), ((2, 2), 9)] {
+        if load(&plate3d_id(res, mode)).is_some() {
+            continue;
+        }
+        let theory = TABLE3.iter().find(|t| t.0 == mode).map_or(0.0, |t| t.2);
+        if let Some(cost) = cost_estimate(
+            "oscillating-plate-3d",
+            "ul-enog",
+            &plate3d_set(res, mode, theory),
+            &like,
+        ) {
+            finer.push(format!(
+                "({}, {}) at H/dp = {res}: {cost} (`{}`)",
+                mode.0,
+                mode.1,
+                command_for(
+                    &plate3d_id(res, mode),
+                    "oscillating-plate-3d",
+                    "ul-enog",
+                    &plate3d_set(res, mode, theory)
+                )
+            ));
+        }
+    }
+    if !finer.is_empty() {
+        writeln!(
+            md,
+            "Not run at the paper's finer resolutions (estimates from `sph run … --dry-run` and \
+             the rates of the H/dp = 3 runs; `validate ul --fine` adds (2, 2) at H/dp = 5):\n"
+        )
+        .unwrap();
+        for f in finer {
+            writeln!(md, "- {f}").unwrap();
+        }
+        writeln!(md).unwrap();
+    }
 
     writeln!(
         md,
