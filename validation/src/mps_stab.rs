@@ -230,7 +230,7 @@ fn pictures(
 /// comparison the study is about), then the rest of the sweep.
 const RUN_ORDER: [f64; 6] = [0.0, ALPHA_DEFAULT, 0.1, 0.03, 1.0, 0.01];
 
-/// Runs (or loads) the study: for each strength (in [`RUN_ORDER`]) the static cantilever,
+/// Runs (or loads) the study: for each strength (α = 0 and the default first) the static cantilever,
 /// the slab, the ring and the plate; then the slab to t = 0.5 s and the convergence runs.
 pub fn run_all(sel: Selection) -> Result<(), CaseError> {
     let f = sel.force;

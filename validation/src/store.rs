@@ -307,18 +307,27 @@ pub fn cost_estimate(case: &str, method: &str, set: &[String], like: &[String]) 
     let hi = rates.iter().copied().reduce(f64::max)?;
     let work = particles * steps;
     let minutes = |rate: f64| work / rate / 60.0;
+    let at = if rates.len() == 1 {
+        format!(
+            "{} min of wall time at the {} particle-steps/s of the stored run",
+            minutes(lo).round(),
+            sci(lo)
+        )
+    } else {
+        format!(
+            "{}–{} min of wall time at the {}–{} particle-steps/s of {} stored runs",
+            minutes(hi).round(),
+            minutes(lo).round(),
+            sci(lo),
+            sci(hi),
+            rates.len()
+        )
+    };
     Some(format!(
-        "{} particles × {} steps = {} particle-steps, {}–{} min of wall time at the {}–{} \
-         particle-steps/s of {} stored run{}",
+        "{} particles × {} steps = {} particle-steps, {at}",
         thousands(particles),
         sci(steps),
         sci(work),
-        minutes(hi).round(),
-        minutes(lo).round(),
-        sci(lo),
-        sci(hi),
-        rates.len(),
-        if rates.len() == 1 { "" } else { "s" },
     ))
 }
 

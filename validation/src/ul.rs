@@ -375,7 +375,8 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         .unwrap_or_else(|| "no estimate".into());
         writeln!(
             md,
-            "Not run with the frame clamp yet: {}. `validate ul` makes them; one run (ENOG,              v_f = 0.01, `sph run … --dry-run`): {cost}.\n",
+            "Not run with the frame clamp yet: {}. `validate ul` makes them; one run (ENOG, \
+             v_f = 0.01, `sph run … --dry-run`): {cost}.\n",
             missing.join(", ")
         )
         .unwrap();
