@@ -5,6 +5,7 @@
 //! `target/validation-results/validation.h5` with the same tables and the plotted curves.
 #![deny(missing_docs)]
 
+pub mod cost;
 pub mod extreme;
 pub mod frames;
 pub mod h5report;
@@ -13,6 +14,7 @@ pub mod mps_stab;
 pub mod plot;
 pub mod store;
 pub mod tl;
+pub mod tradeoff;
 pub mod ul;
 
 use std::path::PathBuf;

@@ -269,3 +269,193 @@ pub fn particle_frames(
     root.present().map_err(|e| err(&e))?;
     Ok(())
 }
+
+/// A series of labelled points `(x, y, label)`.
+pub struct LabelledSeries {
+    /// Legend label.
+    pub label: String,
+    /// Points with a text label each (e.g. the resolution).
+    pub points: Vec<(f64, f64, String)>,
+}
+
+/// Writes a log–log plot (800 × 560 PNG): each series as a line with labelled markers, and the
+/// points of `front` circled (a Pareto front).
+pub fn log_log_plot(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[LabelledSeries],
+    front: &[(f64, f64)],
+) -> Result<(), String> {
+    register_font();
+    let pts = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|p| p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for p in pts {
+        x0 = x0.min(p.0);
+        x1 = x1.max(p.0);
+        y0 = y0.min(p.1);
+        y1 = y1.max(p.1);
+    }
+    if x0 > x1 {
+        return Err(format!("{}: nothing to plot", path.display()));
+    }
+    let (x0, x1, y0, y1) = (x0 / 1.5, x1 * 1.5, y0 / 1.5, y1 * 1.5);
+    let root = BitMapBackend::new(path, (800, 560)).into_drawing_area();
+    let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .map_err(|e| err(&e))?;
+    let compact = |v: &f64| {
+        let s = format!("{:.4}", v);
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        if *v >= 1000.0 || *v < 1e-3 {
+            format!("{v:.0e}")
+        } else {
+            s.to_string()
+        }
+    };
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .x_labels(8)
+        .y_labels(8)
+        .x_label_formatter(&compact)
+        .y_label_formatter(&compact)
+        .light_line_style(WHITE.mix(0.0))
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(|e| err(&e))?;
+    for (k, s) in series.iter().enumerate() {
+        let color = Palette99::pick(k).to_rgba();
+        let pts: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+            .map(|p| (p.0, p.1))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+            .map_err(|e| err(&e))?
+            .label(s.label.clone())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+        chart
+            .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
+            .map_err(|e| err(&e))?;
+        chart
+            .draw_series(
+                s.points
+                    .iter()
+                    .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+                    .map(|p| Text::new(p.2.clone(), (p.0, p.1), ("sans-serif", 11).into_font())),
+            )
+            .map_err(|e| err(&e))?;
+    }
+    chart
+        .draw_series(
+            front
+                .iter()
+                .map(|&p| Circle::new(p, 8, BLACK.stroke_width(2))),
+        )
+        .map_err(|e| err(&e))?;
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()
+        .map_err(|e| err(&e))?;
+    root.present().map_err(|e| err(&e))?;
+    Ok(())
+}
+
+/// One cell of an outcome map.
+pub struct MapCell {
+    /// Row (method).
+    pub row: usize,
+    /// Column (severity value).
+    pub col: usize,
+    /// Outcome class, an index into the map's class names.
+    pub class: usize,
+    /// Text in the cell.
+    pub text: String,
+}
+
+/// Writes a grid of coloured cells (rows × columns; green, orange, red, grey for classes 0–3)
+/// with a legend of `classes` (PNG).
+pub fn outcome_map(
+    path: &Path,
+    title: &str,
+    rows: &[String],
+    cols: &[String],
+    col_label: &str,
+    cells: &[MapCell],
+    classes: &[&str],
+) -> Result<(), String> {
+    register_font();
+    const COLOURS: [RGBColor; 4] = [
+        RGBColor(90, 180, 90),
+        RGBColor(240, 170, 60),
+        RGBColor(210, 70, 60),
+        RGBColor(170, 170, 170),
+    ];
+    let (cw, ch, left, top) = (110i32, 34i32, 110i32, 60i32);
+    let width = (left + cw * cols.len() as i32 + 20).max(560) as u32;
+    let height = (top + ch * rows.len() as i32 + 80) as u32;
+    let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
+    let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let font = |size: i32| ("sans-serif", size).into_font();
+    root.draw(&Text::new(title.to_string(), (10, 10), font(16)))
+        .map_err(|e| err(&e))?;
+    for (c, name) in cols.iter().enumerate() {
+        let x = left + cw * c as i32 + 8;
+        root.draw(&Text::new(
+            format!("{col_label} = {name}"),
+            (x, top - 20),
+            font(12),
+        ))
+        .map_err(|e| err(&e))?;
+    }
+    for (r, name) in rows.iter().enumerate() {
+        let y = top + ch * r as i32 + 10;
+        root.draw(&Text::new(name.clone(), (10, y), font(13)))
+            .map_err(|e| err(&e))?;
+    }
+    for cell in cells {
+        let (x, y) = (left + cw * cell.col as i32, top + ch * cell.row as i32);
+        let colour = COLOURS[cell.class.min(3)];
+        root.draw(&Rectangle::new(
+            [(x, y), (x + cw - 4, y + ch - 4)],
+            colour.filled(),
+        ))
+        .map_err(|e| err(&e))?;
+        root.draw(&Text::new(cell.text.clone(), (x + 8, y + 9), font(13)))
+            .map_err(|e| err(&e))?;
+    }
+    let ly = top + ch * rows.len() as i32 + 20;
+    for (k, name) in classes.iter().enumerate().take(4) {
+        let x = 10 + 130 * k as i32;
+        root.draw(&Rectangle::new(
+            [(x, ly), (x + 16, ly + 16)],
+            COLOURS[k].filled(),
+        ))
+        .map_err(|e| err(&e))?;
+        root.draw(&Text::new(name.to_string(), (x + 22, ly + 2), font(13)))
+            .map_err(|e| err(&e))?;
+    }
+    root.present().map_err(|e| err(&e))?;
+    Ok(())
+}

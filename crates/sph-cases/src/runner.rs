@@ -2,8 +2,9 @@
 
 pub use sph_driver::run::*;
 
-/// The output-schedule keys every case accepts: `snapshot_interval`, `monitor_interval` and
-/// `probe_interval` (all 0 by default: first and last snapshot, end_time/200, every step).
+/// The output-schedule keys every case accepts: `snapshot_interval` and `snapshots` (0 and 50
+/// by default: a snapshot every `end_time/50`, 51 frames; `snapshots = 1` for the first and
+/// last only), `monitor_interval` (0: end_time/200) and `probe_interval` (0: every step).
 pub fn output_params() -> Vec<crate::params::Param> {
     use crate::params::{Param, Range};
     vec![
@@ -11,7 +12,14 @@ pub fn output_params() -> Vec<crate::params::Param> {
             "snapshot_interval",
             0.0,
             Range::NonNegative,
-            "simulated time between HDF5 snapshots (0: first and last only)",
+            "simulated time between HDF5 snapshots (0: end_time/snapshots)",
+        ),
+        Param::int(
+            "snapshots",
+            i64::from(DEFAULT_SNAPSHOTS),
+            Range::Closed(1.0, MAX_SNAPSHOTS_KEY),
+            "snapshots after the initial one, evenly spaced to end_time, when \
+             snapshot_interval = 0 (1: the first and last only)",
         ),
         Param::float(
             "monitor_interval",
@@ -27,3 +35,6 @@ pub fn output_params() -> Vec<crate::params::Param> {
         ),
     ]
 }
+
+/// Largest value of the key `snapshots`.
+pub const MAX_SNAPSHOTS_KEY: f64 = 10_000.0;

@@ -11,6 +11,11 @@ pub trait Kernel: Copy + Send + Sync {
     fn w(&self, r: f64) -> f64;
     /// Radial derivative `dW/dr(r)` (≤ 0); zero for `r ≥ cutoff()`.
     fn dw_dr(&self, r: f64) -> f64;
+    /// `(W(r), dW/dr(r))` together (equal to the two calls; kernels override it to share work).
+    #[inline(always)]
+    fn w_and_dw_dr(&self, r: f64) -> (f64, f64) {
+        (self.w(r), self.dw_dr(r))
+    }
     /// Support radius: neighbours are the particles with `r < cutoff()`.
     fn cutoff(&self) -> f64;
     /// Smoothing length `h`.
@@ -83,6 +88,20 @@ impl<D: Dim> Kernel for WendlandC2<D> {
     }
 
     #[inline(always)]
+    fn w_and_dw_dr(&self, r: f64) -> (f64, f64) {
+        let q = r * self.inv_h;
+        if q >= 2.0 {
+            return (0.0, 0.0);
+        }
+        let a = 1.0 - 0.5 * q;
+        let a2 = a * a;
+        (
+            self.alpha * a2 * a2 * (1.0 + 2.0 * q),
+            -5.0 * self.alpha * self.inv_h * q * a * a * a,
+        )
+    }
+
+    #[inline(always)]
     fn cutoff(&self) -> f64 {
         2.0 * self.h
     }
@@ -144,6 +163,17 @@ mod tests {
             }
         }
         assert!((s * dx * dx - 1.0).abs() < 1e-6, "{}", s * dx * dx);
+    }
+
+    #[test]
+    fn value_and_derivative_together_equal_the_separate_calls_bitwise() {
+        let k = WendlandC2::<crate::dim::D2>::new(0.013).unwrap();
+        for m in 0..=300 {
+            let r = 0.03 * m as f64 / 300.0;
+            let (w, dw) = k.w_and_dw_dr(r);
+            assert_eq!(w.to_bits(), k.w(r).to_bits());
+            assert_eq!(dw.to_bits(), k.dw_dr(r).to_bits());
+        }
     }
 
     #[test]

@@ -24,6 +24,7 @@ pub mod generate;
 pub mod kernel;
 pub mod neighbor;
 pub mod pairs;
+pub mod parallel;
 pub mod relaxation;
 pub mod scene;
 pub mod solver;

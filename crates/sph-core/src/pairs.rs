@@ -5,7 +5,6 @@
 use crate::dim::Dim;
 use crate::kernel::Kernel;
 use crate::neighbor::NeighborList;
-use rayon::prelude::*;
 
 /// Kernel data of one directed pair `(i, j)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,28 +66,17 @@ pub fn fill_pair_kernels<D: Dim, K: Kernel>(
     out: &mut [PairKernel<D>],
 ) {
     assert_eq!(out.len(), list.num_pairs(), "pair buffer length");
-    let offsets = list.offsets();
     let indices = list.indices();
-    // Split the flat pair buffer by particle ranges; parallel over particles.
-    let mut rest: &mut [PairKernel<D>] = out;
-    let mut slices: Vec<&mut [PairKernel<D>]> = Vec::with_capacity(list.len());
-    for i in 0..list.len() {
-        let (a, b) = rest.split_at_mut(offsets[i + 1] - offsets[i]);
-        slices.push(a);
-        rest = b;
-    }
-    slices.into_par_iter().enumerate().for_each(|(i, slots)| {
+    crate::parallel::gather_slices(list.offsets(), out, &|i, slots: &mut [PairKernel<D>]| {
         let xi = queries[i];
-        for (slot, &j) in slots.iter_mut().zip(&indices[offsets[i]..offsets[i + 1]]) {
+        let start = list.offsets()[i];
+        let neighbours = &indices[start..start + slots.len()];
+        for (slot, &j) in slots.iter_mut().zip(neighbours) {
             let d = xi - targets[j as usize];
             let r = D::norm(d);
             let e = if r > 0.0 { d / r } else { D::zero() };
-            *slot = PairKernel {
-                e,
-                r,
-                w: kernel.w(r),
-                dw: kernel.dw_dr(r),
-            };
+            let (w, dw) = kernel.w_and_dw_dr(r);
+            *slot = PairKernel { e, r, w, dw };
         }
     });
 }

@@ -68,6 +68,15 @@ pub trait Solver<D: Dim>: Send {
     /// Current velocities.
     fn velocities(&self) -> &[D::Vector];
 
+    /// The identity of each particle in the current storage order: `particle_ids()[k]` is the
+    /// index, in the body the solver was built from, of the particle now stored at `k` (so it
+    /// is a permutation of `0..len()`). The identity by default; a method that reorders its
+    /// particles (UL's spatial sort) returns its permutation, so output written at different
+    /// times can be matched particle by particle.
+    fn particle_ids(&self) -> std::borrow::Cow<'_, [u32]> {
+        std::borrow::Cow::Owned((0..self.len() as u32).collect())
+    }
+
     /// Names of the fields [`Solver::field`] can compute.
     fn field_names(&self) -> Vec<&'static str>;
 
@@ -89,6 +98,13 @@ pub trait Solver<D: Dim>: Send {
 
     /// Total linear momentum `Σ m v` (3-vector; z = 0 in 2D), for methods that track masses.
     fn momentum(&self) -> Option<glam::DVec3> {
+        None
+    }
+
+    /// Neighbour pairs visited by the force evaluations so far (directed pairs summed over
+    /// evaluations): the machine-independent work of the run, for cost comparisons between
+    /// methods. `None` if the solver does not count it.
+    fn pair_visits(&self) -> Option<u64> {
         None
     }
 

@@ -87,7 +87,8 @@ impl Estimate {
         };
         let monitor_samples = events(schedule.monitor_interval);
         let steps = end / step + snapshots + monitor_samples;
-        let mut snapshot_bytes = SNAPSHOT_OVERHEAD + 24.0 * n as f64;
+        // `position` (3 f64) and `id` (u64) per particle, then the fields.
+        let mut snapshot_bytes = SNAPSHOT_OVERHEAD + 32.0 * n as f64;
         if options.output.is_some() {
             for &name in fields {
                 snapshot_bytes += match solver.field(name) {
@@ -135,7 +136,7 @@ impl Estimate {
                 schedule.snapshot_interval,
                 format!(
                     "gives {} snapshots, more than {}; allowed: snapshot_interval >= {:.3e} \
-                     (end_time/{}), or 0 for the first and last only",
+                     (end_time/{})",
                     format_count(self.snapshots),
                     format_count(MAX_SNAPSHOTS),
                     end / (MAX_SNAPSHOTS - 2.0),
@@ -153,14 +154,15 @@ impl Estimate {
                         schedule.snapshot_interval,
                         format!(
                             "{} snapshots of {} need ≈ {}, more than the {} free in {}; \
-                             allowed: snapshot_interval >= {:.3e}, or 0 for the first and last \
-                             only",
+                             allowed: snapshot_interval >= {:.3e} (an interval >= end_time = \
+                             {:?} writes the first and last only)",
                             format_count(self.snapshots),
                             format_bytes(self.snapshot_bytes),
                             format_bytes(disk),
                             format_bytes(free as f64),
                             dir.display(),
-                            if fit >= 1.0 { end / fit } else { end }
+                            if fit >= 1.0 { end / fit } else { end },
+                            end
                         ),
                     );
                 }

@@ -19,5 +19,5 @@ pub mod run;
 pub use error::DriverError;
 pub use run::{
     drive, field_dataset, finite_or_null, signal_name, Interrupt, MonitorSample, Progress,
-    ProgressSink, Run, RunOptions, RunRecord, Schedule,
+    ProgressSink, Run, RunOptions, RunRecord, Schedule, DEFAULT_SNAPSHOTS,
 };

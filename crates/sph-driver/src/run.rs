@@ -7,7 +7,7 @@ use crate::error::DriverError;
 use serde_json::{json, Map, Value as Json};
 use sph_core::disorder::DisorderStats;
 use sph_core::{Dim, Field, Solver};
-use sph_output::{create_writer, Backend, Dataset, ResultWriter};
+use sph_output::{create_writer_with, Backend, Compression, Dataset, ResultWriter};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -64,6 +64,9 @@ pub struct RunOptions {
     pub output: Option<PathBuf>,
     /// HDF5 backend.
     pub backend: Backend,
+    /// Dataset compression (none by default; `Compression::Deflate(level)` for shuffle +
+    /// deflate, which every HDF5 reader decodes).
+    pub compression: Compression,
     /// Where to report progress (nothing when `None`).
     pub progress: Option<ProgressSink>,
     /// Run even if the estimated work exceeds [`crate::guard::MAX_PARTICLE_STEPS`].
@@ -80,12 +83,20 @@ pub struct RunOptions {
 /// A flag a signal handler sets to the signal's number (0: not interrupted).
 pub type Interrupt = std::sync::Arc<std::sync::atomic::AtomicUsize>;
 
+/// Snapshots a run writes by default after the initial one (the `sph` command's `snapshots`
+/// key): an interval of `end_time / DEFAULT_SNAPSHOTS`, 51 frames. 50 divides the default
+/// monitor rate (`end_time/200`) by a power of two, so these snapshot times are monitor times
+/// exactly and the snapshots do not change the step sequence of a run.
+pub const DEFAULT_SNAPSHOTS: u32 = 50;
+
 /// When things happen during a run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Schedule {
     /// Simulated end time.
     pub end_time: f64,
-    /// Interval between snapshots (0: only the first and the last).
+    /// Interval between snapshots: one at t = 0, at every multiple of it and at the end time
+    /// (0: only the first and the last; `end_time /` [`DEFAULT_SNAPSHOTS`] is the default of
+    /// the `sph` command).
     pub snapshot_interval: f64,
     /// Interval between samples of the disorder indicator and the energies.
     pub monitor_interval: f64,
@@ -130,6 +141,8 @@ pub struct RunRecord {
     pub estimate: Option<crate::guard::Estimate>,
     /// The results file, if one was written.
     pub file: Option<PathBuf>,
+    /// Neighbour pairs visited by the force evaluations ([`Solver::pair_visits`]).
+    pub pair_visits: Option<u64>,
 }
 
 impl RunRecord {
@@ -185,6 +198,7 @@ impl RunRecord {
             json!(self.particle_steps_per_second()),
         );
         m.insert("threads".into(), json!(rayon::current_num_threads()));
+        m.insert("pair_visits".into(), json!(self.pair_visits));
         m.insert("max_disorder".into(), finite_or_null(self.max_disorder()));
         m.insert(
             "energy_drift".into(),
@@ -244,6 +258,7 @@ pub fn drive<D: Dim>(
     summarise: impl FnOnce(&dyn Solver<D>, &RunRecord) -> Map<String, Json>,
 ) -> Result<(RunRecord, Map<String, Json>), DriverError> {
     let started = Instant::now();
+    check_compression(options)?;
     let estimate = crate::guard::Estimate::of(solver, &schedule, fields, options);
     estimate.check(&schedule, options)?;
     let mut record = RunRecord {
@@ -269,7 +284,7 @@ pub fn drive<D: Dim>(
                     source: e,
                 })?;
             }
-            let mut w = create_writer(path, options.backend)?;
+            let mut w = create_writer_with(path, options.backend, options.compression)?;
             w.write_meta(&meta)?;
             Some(w)
         }
@@ -343,6 +358,7 @@ pub fn drive<D: Dim>(
         }
     }
     record.steps = solver.step_count();
+    record.pair_visits = solver.pair_visits();
     record.time = solver.time();
     record.wall_seconds = started.elapsed().as_secs_f64();
     let mut summary = record.standard_summary(&meta_str(&meta, "case"), solver.method());
@@ -509,8 +525,20 @@ fn write_snapshot<D: Dim>(
         .iter()
         .map(|&x| D::to_vec3(x).to_array())
         .collect();
-    let mut sets = vec![Dataset::vectors("position", &pos)];
+    let ids: Vec<u64> = solver
+        .particle_ids()
+        .iter()
+        .map(|&i| u64::from(i))
+        .collect();
+    let mut sets = vec![
+        Dataset::vectors("position", &pos),
+        Dataset::u64_scalars("id", &ids),
+    ];
     for &name in fields {
+        // `id` is the solver's, never a field of the same name.
+        if name == "id" {
+            continue;
+        }
         if let Some(f) = solver.field(name) {
             sets.push(field_dataset::<D>(name, f));
         }
@@ -519,8 +547,30 @@ fn write_snapshot<D: Dim>(
     Ok(())
 }
 
+/// Refuses a compression the run cannot honour: a deflate level outside 1..=9, or any
+/// compression without a results file (nothing would be compressed).
+fn check_compression(options: &RunOptions) -> Result<(), DriverError> {
+    match options.compression {
+        Compression::None => Ok(()),
+        Compression::Deflate(level) => {
+            let allowed = if Compression::deflate(level).is_err() {
+                "a deflate level, 1 (fastest) to 9 (smallest)"
+            } else if options.output.is_none() {
+                "no compression when no results file is written"
+            } else {
+                return Ok(());
+            };
+            Err(DriverError::InvalidValue {
+                key: "compression".into(),
+                value: format!("deflate {level}"),
+                allowed: allowed.into(),
+            })
+        }
+    }
+}
+
 /// A run of a scene built in Rust, with the `sph` command's defaults: an end time, snapshots
-/// every `end_time/50`, monitor samples every `end_time/200`, the kinematic and stress fields
+/// every `end_time/`[`DEFAULT_SNAPSHOTS`] (51 frames), monitor samples every `end_time/200`, the kinematic and stress fields
 /// the solver offers, and (optionally) an HDF5 results file.
 ///
 /// ```no_run
@@ -596,6 +646,14 @@ impl Run {
         self
     }
 
+    /// Compresses the results file's datasets (shuffle + deflate at `level`, 1 fastest to 9
+    /// smallest; both backends). A level outside 1..=9, or compression without
+    /// [`Run::write_to`], is an error from [`Run::execute`].
+    pub fn compress(mut self, level: u8) -> Self {
+        self.options.compression = Compression::Deflate(level);
+        self
+    }
+
     /// Every other option of the driver.
     pub fn options(mut self, options: RunOptions) -> Self {
         self.options = options;
@@ -620,7 +678,9 @@ impl Run {
         }
         let schedule = Schedule {
             end_time: self.end_time,
-            snapshot_interval: self.snapshot_interval.unwrap_or(self.end_time / 50.0),
+            snapshot_interval: self
+                .snapshot_interval
+                .unwrap_or(self.end_time / f64::from(DEFAULT_SNAPSHOTS)),
             monitor_interval: self.monitor_interval.unwrap_or(self.end_time / 200.0),
             probe_interval: 0.0,
         };

@@ -13,6 +13,7 @@ use sph_core::diagnostics;
 use sph_core::disorder::disorder_indicator;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
+use sph_core::parallel::MIN_PARTICLES_PER_TASK;
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
@@ -515,6 +516,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     fn state_dt(&self) -> f64 {
         let max = |v: &[D::Vector]| {
             v.par_iter()
+                .with_min_len(MIN_PARTICLES_PER_TASK)
                 .map(|&x| D::norm_squared(x))
                 .reduce(|| 0.0, diagnostics::max_or_nan)
                 .sqrt()
@@ -747,6 +749,11 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
 
     fn step_count(&self) -> u64 {
         self.steps
+    }
+
+    fn pair_visits(&self) -> Option<u64> {
+        // One force evaluation per step over a list fixed in the reference configuration.
+        Some(self.steps * self.list.num_pairs() as u64)
     }
 
     fn positions(&self) -> &[D::Vector] {

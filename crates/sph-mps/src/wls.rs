@@ -258,16 +258,14 @@ pub fn deformation_and_stress<D: Dim, M: Material<D>>(
     }
 }
 
-/// Bodies smaller than this run their loops on the calling thread: for a few hundred particles
-/// the hand-off to the rayon pool costs more than the loop (measured: a 25-particle body spent
-/// 60 % of its time in the kernel waking workers). Results are identical either way (every loop
-/// is a gather writing only its own entries, summing in the neighbour-list order).
-pub const PARALLEL_THRESHOLD: usize = 1024;
+/// Loops over fewer particles than twice this run on the calling thread (one threshold for
+/// every method: [`sph_core::parallel`]).
+pub const PARALLEL_THRESHOLD: usize = sph_core::parallel::MIN_PARTICLES_PER_TASK;
 
-/// Whether loops over `n` particles go to the rayon pool.
+/// Whether loops over `n` particles go to the rayon pool ([`sph_core::parallel::worth_splitting`]).
 #[inline]
 pub fn parallel(n: usize) -> bool {
-    n >= PARALLEL_THRESHOLD
+    sph_core::parallel::worth_splitting(n)
 }
 
 /// Pass 2, parallel over particles (gather): the internal force of eq 7,

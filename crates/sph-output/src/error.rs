@@ -70,6 +70,12 @@ pub enum OutputError {
         /// Why it is unavailable.
         reason: String,
     },
+    /// A deflate level outside 1..=9 ([`crate::Compression::deflate`]).
+    #[error("invalid deflate level {level}: allowed are 1 (fastest) to 9 (smallest)")]
+    InvalidCompression {
+        /// The level asked for.
+        level: u8,
+    },
 }
 
 impl OutputError {

@@ -14,9 +14,12 @@
 //! | `/summary` | one attribute per key of the run's summary plus `json`, the whole map as a JSON string |
 //!
 //! and a sidecar `<name>.xmf` (XDMF 3): a temporal collection of the snapshots, each a
-//! `Polyvertex` topology whose `XYZ` geometry is the snapshot's `position` dataset and whose
-//! other per-particle datasets are node attributes (`Scalar`, `Vector`, `Tensor`, … by shape,
-//! see [`xdmf`]). Open the `.xmf` in ParaView (reader "XDMF Reader" / "Xdmf3ReaderT").
+//! `Polyvertex` topology with its connectivity (the snapshot's `id` dataset when that is a
+//! permutation of `0..n`, else an inline list), an `XYZ` geometry from the snapshot's
+//! `position` dataset, and every per-particle dataset as a node attribute (`Scalar`, `Vector`,
+//! `Tensor`, … by shape, see [`xdmf`]). ParaView ("XDMF Reader" / "Xdmf3 Reader S/T"), VTK and
+//! meshio read it. The run driver (`sph-driver`) writes `position` and an integer `id` (u64,
+//! the particle's index in the input body) in every snapshot.
 //!
 //! # Dimension conventions
 //!
@@ -65,7 +68,9 @@
 //! [`Backend::Pure`] (the default) uses the pure-Rust `hdf5-pure` crate (pinned exactly), so
 //! nothing beyond the Rust toolchain is needed; it is also what [`read_file`] uses.
 //! [`Backend::Metno`] uses the HDF5 C library through `hdf5-metno` and exists only with the
-//! cargo feature `hdf5-metno`. Both write the same layout and the same datatypes.
+//! cargo feature `hdf5-metno`. Both write the same layout and the same datatypes, and both
+//! honour [`Compression`] with the same chunks and filters ([`create_writer_with`]; the C
+//! backend refuses it if its library lacks the deflate filter).
 //!
 //! # Example
 //!
@@ -237,23 +242,64 @@ pub(crate) fn with_suffix(p: &Path, suffix: &str) -> PathBuf {
     PathBuf::from(s)
 }
 
+/// How a writer stores datasets.
+///
+/// With [`Compression::Deflate`] every dataset of at least 1 KiB is stored in chunks of whole
+/// rows (about 1 MiB each) through the HDF5 `shuffle` and `deflate` (zlib) filters, which
+/// every HDF5 reader decodes transparently (h5py, the C library, hence ParaView and meshio);
+/// smaller datasets stay contiguous. Values are unchanged, bit for bit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum Compression {
+    /// Contiguous, uncompressed datasets. The default.
+    #[default]
+    None,
+    /// Shuffle + deflate at this zlib level, 1 (fastest) to 9 (smallest).
+    Deflate(u8),
+}
+
+impl Compression {
+    /// `Deflate(level)` for a level in 1..=9, else an error naming the allowed range.
+    pub fn deflate(level: u8) -> Result<Self, OutputError> {
+        if (1..=9).contains(&level) {
+            Ok(Compression::Deflate(level))
+        } else {
+            Err(OutputError::InvalidCompression { level })
+        }
+    }
+}
+
 /// Starts a results file `<path_without_ext>.h5`, written to a temporary file of its own until
 /// [`ResultWriter::finish`]. Fails before writing anything if the destination may not be
 /// replaced ([`safety::check_results_destination`]) or another writer holds its lock. An
-/// existing `.h5` is replaced only by `finish`. The parent directory must exist.
+/// existing `.h5` is replaced only by `finish`. The parent directory must exist. Datasets are
+/// stored uncompressed; see [`create_writer_with`].
 pub fn create_writer(
     path_without_ext: &Path,
     backend: Backend,
 ) -> Result<Box<dyn ResultWriter>, OutputError> {
+    create_writer_with(path_without_ext, backend, Compression::None)
+}
+
+/// [`create_writer`] with a choice of dataset [`Compression`].
+pub fn create_writer_with(
+    path_without_ext: &Path,
+    backend: Backend,
+    compression: Compression,
+) -> Result<Box<dyn ResultWriter>, OutputError> {
+    if let Compression::Deflate(level) = compression {
+        Compression::deflate(level)?;
+    }
     match backend {
         Backend::Pure => Ok(Box::new(writer::LayoutWriter::new(
             path_without_ext,
             pure::PureSink::create,
+            compression,
         )?)),
         #[cfg(feature = "hdf5-metno")]
         Backend::Metno => Ok(Box::new(writer::LayoutWriter::new(
             path_without_ext,
             metno::MetnoSink::create,
+            compression,
         )?)),
         #[cfg(not(feature = "hdf5-metno"))]
         Backend::Metno => Err(OutputError::BackendUnavailable {

@@ -9,8 +9,8 @@ use hdf5::types::VarLenUnicode;
 use hdf5::{File, Group, Location};
 
 use crate::data::{Dataset, DatasetData};
-use crate::writer::{Attr, GroupSpec, Sink, TOP_GROUPS};
-use crate::OutputError;
+use crate::writer::{chunk_shape, Attr, GroupSpec, Sink, TOP_GROUPS};
+use crate::{Compression, OutputError};
 
 const BACKEND: &str = "hdf5-metno";
 
@@ -40,32 +40,47 @@ fn write_attr(loc: &Location, name: &str, a: &Attr) -> hdf5::Result<()> {
     }
 }
 
-fn write_dataset(g: &Group, ds: &Dataset) -> hdf5::Result<()> {
+fn write_dataset(g: &Group, ds: &Dataset, compression: Compression) -> hdf5::Result<()> {
     let shape: Vec<usize> = ds.shape().to_vec();
+    let chunk = match compression {
+        Compression::Deflate(level) => chunk_shape(&shape).map(|c| (c, level)),
+        Compression::None => None,
+    };
+    // The same filters as the pure backend, in the same order: shuffle, then deflate.
+    macro_rules! create {
+        ($t:ty, $values:expr) => {{
+            let b = g.new_dataset::<$t>().shape(shape);
+            let b = match chunk {
+                Some((c, level)) => b.chunk(c).shuffle().deflate(level),
+                None => b,
+            };
+            b.create(ds.name.as_str())?.write_raw($values.as_slice())
+        }};
+    }
     match &ds.data {
-        DatasetData::F64 { values, .. } => g
-            .new_dataset::<f64>()
-            .shape(shape)
-            .create(ds.name.as_str())?
-            .write_raw(values.as_slice()),
-        DatasetData::U64 { values, .. } => g
-            .new_dataset::<u64>()
-            .shape(shape)
-            .create(ds.name.as_str())?
-            .write_raw(values.as_slice()),
+        DatasetData::F64 { values, .. } => create!(f64, values),
+        DatasetData::U64 { values, .. } => create!(u64, values),
     }
 }
 
 pub(crate) struct MetnoSink {
     path: PathBuf,
     file: File,
+    compression: Compression,
 }
 
 impl MetnoSink {
     pub(crate) fn create(
         path: &Path,
         root_attrs: &[(String, Attr)],
+        compression: Compression,
     ) -> Result<Box<dyn Sink>, OutputError> {
+        if matches!(compression, Compression::Deflate(_)) && !hdf5::filters::deflate_available() {
+            return Err(OutputError::BackendUnavailable {
+                backend: BACKEND.to_string(),
+                reason: "the HDF5 C library was built without the deflate (zlib) filter".into(),
+            });
+        }
         let file = File::create(path).map_err(|e| err(path, "create the file", e))?;
         let init = || -> hdf5::Result<()> {
             for (name, a) in root_attrs {
@@ -80,6 +95,7 @@ impl MetnoSink {
         Ok(Box::new(MetnoSink {
             path: path.to_path_buf(),
             file,
+            compression,
         }))
     }
 }
@@ -95,7 +111,7 @@ impl Sink for MetnoSink {
                 write_attr(&g, name, a)?;
             }
             for ds in &group.datasets {
-                write_dataset(&g, ds)?;
+                write_dataset(&g, ds, self.compression)?;
             }
             self.file.flush()
         };
@@ -103,7 +119,7 @@ impl Sink for MetnoSink {
     }
 
     fn close(self: Box<Self>) -> Result<(), OutputError> {
-        let MetnoSink { path, file } = *self;
+        let MetnoSink { path, file, .. } = *self;
         file.flush()
             .and_then(|()| file.close())
             .map_err(|e| err(&path, "close the file", e))

@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use hdf5_pure::{AttrValue, DatasetBuilder, File, FileBuilder};
 
 use crate::data::{Dataset, DatasetData};
-use crate::writer::{Attr, GroupSpec, Sink, TOP_GROUPS};
-use crate::OutputError;
+use crate::writer::{chunk_shape, Attr, GroupSpec, Sink, TOP_GROUPS};
+use crate::{Compression, OutputError};
 
 pub(crate) const BACKEND: &str = "hdf5-pure";
 
@@ -34,24 +34,32 @@ pub(crate) fn attr_value(a: &Attr) -> AttrValue {
     }
 }
 
-fn dataset_into(b: &mut DatasetBuilder, ds: &Dataset) {
+fn dataset_into(b: &mut DatasetBuilder, ds: &Dataset, compression: Compression) {
     let shape: Vec<u64> = ds.shape().iter().map(|&d| d as u64).collect();
     match &ds.data {
         DatasetData::F64 { values, .. } => b.with_f64_data(values),
         DatasetData::U64 { values, .. } => b.with_u64_data(values),
     }
     .with_shape(&shape);
+    if let (Compression::Deflate(level), Some(chunk)) = (compression, chunk_shape(ds.shape())) {
+        let chunk: Vec<u64> = chunk.iter().map(|&d| d as u64).collect();
+        b.with_chunks(&chunk)
+            .with_shuffle()
+            .with_deflate(u32::from(level));
+    }
 }
 
 pub(crate) struct PureSink {
     path: PathBuf,
     file: File,
+    compression: Compression,
 }
 
 impl PureSink {
     pub(crate) fn create(
         path: &Path,
         root_attrs: &[(String, Attr)],
+        compression: Compression,
     ) -> Result<Box<dyn Sink>, OutputError> {
         let mut builder = FileBuilder::new();
         for (name, a) in root_attrs {
@@ -68,6 +76,7 @@ impl PureSink {
         Ok(Box::new(PureSink {
             path: path.to_path_buf(),
             file,
+            compression,
         }))
     }
 }
@@ -75,6 +84,7 @@ impl PureSink {
 impl Sink for PureSink {
     fn write_group(&mut self, group: &GroupSpec<'_>, replace: bool) -> Result<(), OutputError> {
         let ctx = format!("write group /{}", group.path);
+        let compression = self.compression;
         let root = self.file.root();
         if replace {
             root.delete(&group.path)
@@ -85,7 +95,7 @@ impl Sink for PureSink {
                 g.set_attr(name, attr_value(a));
             }
             for ds in &group.datasets {
-                g.create_dataset(&ds.name, |b| dataset_into(b, ds));
+                g.create_dataset(&ds.name, |b| dataset_into(b, ds, compression));
             }
         })
         .map_err(|e| err(&self.path, ctx.clone(), e))?;
@@ -94,7 +104,7 @@ impl Sink for PureSink {
     }
 
     fn close(self: Box<Self>) -> Result<(), OutputError> {
-        let PureSink { path, file } = *self;
+        let PureSink { path, file, .. } = *self;
         file.close().map_err(|e| err(&path, "close the file", e))
     }
 }

@@ -5,10 +5,10 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value};
 
-use crate::data::{check_name, Dataset};
+use crate::data::{check_name, Dataset, DatasetData};
 use crate::safety::{OutputLock, TempFile};
 use crate::xdmf::{self, XdmfField, XdmfSnapshot};
-use crate::{OutputError, ResultWriter, FORMAT_NAME, FORMAT_VERSION};
+use crate::{Compression, OutputError, ResultWriter, FORMAT_NAME, FORMAT_VERSION};
 
 /// An attribute value, in the types both backends write identically.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,8 +38,32 @@ pub(crate) trait Sink: Send {
 }
 
 /// Creates the temporary file with the root attributes and the empty groups `meta`,
-/// `snapshots`, `probes`, `series`, `summary`.
-pub(crate) type SinkFactory = fn(&Path, &[(String, Attr)]) -> Result<Box<dyn Sink>, OutputError>;
+/// `snapshots`, `probes`, `series`, `summary`; datasets are then stored with `Compression`.
+pub(crate) type SinkFactory =
+    fn(&Path, &[(String, Attr)], Compression) -> Result<Box<dyn Sink>, OutputError>;
+
+/// Datasets smaller than this are stored contiguous even when compression is asked for: a
+/// chunk index and a filter pipeline cost more than deflate saves on them.
+const MIN_COMPRESSED_BYTES: usize = 1024;
+
+/// Target size of one chunk of a compressed dataset.
+const CHUNK_BYTES: usize = 1 << 20;
+
+/// The chunk shape of a compressed dataset of `shape` (8-byte elements), or `None` to store
+/// it contiguous (small or empty datasets): whole rows of the first dimension, about
+/// [`CHUNK_BYTES`] per chunk, never more rows than the dataset has. Both backends use it, so
+/// they write the same layout.
+pub(crate) fn chunk_shape(shape: &[usize]) -> Option<Vec<usize>> {
+    let total: usize = shape.iter().product();
+    if shape.is_empty() || total == 0 || 8 * total < MIN_COMPRESSED_BYTES {
+        return None;
+    }
+    let row: usize = shape[1..].iter().product();
+    let rows = (CHUNK_BYTES / (8 * row)).clamp(1, shape[0]);
+    let mut chunk = shape.to_vec();
+    chunk[0] = rows;
+    Some(chunk)
+}
 
 pub(crate) const TOP_GROUPS: [&str; 5] = ["meta", "snapshots", "probes", "series", "summary"];
 
@@ -55,7 +79,11 @@ pub(crate) struct LayoutWriter {
 }
 
 impl LayoutWriter {
-    pub(crate) fn new(path_without_ext: &Path, factory: SinkFactory) -> Result<Self, OutputError> {
+    pub(crate) fn new(
+        path_without_ext: &Path,
+        factory: SinkFactory,
+        compression: Compression,
+    ) -> Result<Self, OutputError> {
         let h5 = crate::h5_path(path_without_ext);
         let xmf = crate::xmf_path(path_without_ext);
         // Lock first, then check: the destination cannot change under a held lock (except by
@@ -68,7 +96,7 @@ impl LayoutWriter {
             ("format".to_string(), Attr::Str(FORMAT_NAME.to_string())),
             ("format_version".to_string(), Attr::U64(FORMAT_VERSION)),
         ];
-        let sink = factory(tmp.path(), &root_attrs)?;
+        let sink = factory(tmp.path(), &root_attrs, compression)?;
         Ok(LayoutWriter {
             tmp,
             lock,
@@ -179,9 +207,24 @@ impl ResultWriter for LayoutWriter {
             datasets: datasets.iter().collect(),
         };
         self.sink.write_group(&spec, false)?;
+        // The particle ids, if they can serve as the topology's connectivity.
+        let vertex_ids = position.and_then(|p| {
+            let n = p.shape()[0];
+            datasets
+                .iter()
+                .find(|d| d.name == "id")
+                .filter(|d| matches!(d.shape(), [m] | [m, 1] if *m == n))
+                .and_then(|d| match &d.data {
+                    DatasetData::U64 { values, .. } if xdmf::is_permutation(values, n) => {
+                        Some(d.name.clone())
+                    }
+                    _ => None,
+                })
+        });
         self.snapshots.push(XdmfSnapshot {
             name,
             time,
+            vertex_ids,
             fields: datasets
                 .iter()
                 .map(|d| XdmfField {

@@ -1,17 +1,27 @@
-//! The XDMF 3 sidecar that lets ParaView open the snapshots of a results file.
+//! The XDMF 3 sidecar that lets ParaView, VisIt and meshio open the snapshots of a results file.
 //!
 //! One `Grid` collection (`CollectionType="Temporal"`) holds one uniform grid per snapshot
 //! that has a `position` dataset (a snapshot without one has no geometry and is left out of
 //! the sidecar, though it stays in the `.h5`). Each grid has
 //!
-//! * a `Polyvertex` topology of `n` elements (`n` = rows of `position`),
-//! * an `XYZ` geometry read from `/snapshots/<k>/position` (`[n, 3]`, 2D padded `z = 0`),
-//! * one `Center="Node"` attribute per other dataset whose first dimension is `n`, typed by
-//!   shape: `[n]` or `[n, 1]` → `Scalar`, `[n, 3]` → `Vector`, `[n, 6]` → `Tensor6`,
-//!   `[n, 3, 3]` or `[n, 9]` → `Tensor`, anything else → `Matrix`. Datasets of another first
-//!   dimension are not per-particle and are not listed.
+//! * a `Time` value (the snapshot's `time` attribute);
+//! * a `Polyvertex` topology of `n` one-node cells (`n` = rows of `position`) with its
+//!   connectivity as a data item, which meshio requires (it reads cells from it) and VTK's
+//!   readers use when present: the snapshot's `id` dataset when that is a permutation of
+//!   `0..n` (what `sph-driver` writes), so the connectivity costs no storage; otherwise the
+//!   list `0 1 … n-1` inline in the XML;
+//! * an `XYZ` geometry read from `/snapshots/<k>/position` (`[n, 3]`, 2D padded `z = 0`);
+//! * one `Center="Node"` attribute per dataset whose first dimension is `n`, typed by shape:
+//!   `[n]` or `[n, 1]` → `Scalar`, `[n, 3]` → `Vector`, `[n, 6]` → `Tensor6`, `[n, 3, 3]` or
+//!   `[n, 9]` → `Tensor`, anything else → `Matrix`. `position` is listed as a `Vector`
+//!   attribute too: readers of time series that take the geometry of the first grid only
+//!   (meshio's `TimeSeriesReader`) then still get each frame's positions. Datasets of another
+//!   first dimension are not per-particle and are not listed.
 //!
 //! Data items reference the `.h5` by its bare file name, so the pair can be moved together.
+//! `f64` data is `NumberType="Float" Precision="8"`; `u64` data (ids) is declared
+//! `NumberType="Int" Precision="8"`, which the HDF5 library converts exactly for values
+//! below 2⁶³: VTK's XDMF 2 reader has no unsigned 64-bit type.
 
 use std::fmt::Write as _;
 
@@ -29,6 +39,25 @@ pub(crate) struct XdmfSnapshot {
     pub name: String,
     pub time: f64,
     pub fields: Vec<XdmfField>,
+    /// The u64 dataset holding a permutation of `0..n` (the particle ids), if any: the
+    /// topology's connectivity.
+    pub vertex_ids: Option<String>,
+}
+
+/// Whether `values` (a u64 dataset of `n` rows, one column) is a permutation of `0..n`: then
+/// it can serve as the connectivity of the `Polyvertex` topology.
+pub(crate) fn is_permutation(values: &[u64], n: usize) -> bool {
+    if values.len() != n {
+        return false;
+    }
+    let mut seen = vec![false; n];
+    for &v in values {
+        match usize::try_from(v).ok().and_then(|i| seen.get_mut(i)) {
+            Some(s) if !*s => *s = true,
+            _ => return false,
+        }
+    }
+    true
 }
 
 /// The XDMF attribute type for a per-particle dataset of this shape (first dimension = the
@@ -61,19 +90,27 @@ pub fn escape(s: &str) -> String {
 
 fn data_item(out: &mut String, h5_name: &str, snap: &str, field: &XdmfField, indent: &str) {
     let dims: Vec<String> = field.shape.iter().map(usize::to_string).collect();
-    let (number_type, precision) = if field.is_u64 {
-        ("UInt", 8)
-    } else {
-        ("Float", 8)
-    };
+    // Int, not UInt: see the module documentation.
+    let number_type = if field.is_u64 { "Int" } else { "Float" };
     let _ = writeln!(
         out,
-        "{indent}<DataItem Dimensions=\"{}\" NumberType=\"{number_type}\" Precision=\"{precision}\" Format=\"HDF\">{}:/snapshots/{}/{}</DataItem>",
+        "{indent}<DataItem Dimensions=\"{}\" NumberType=\"{number_type}\" Precision=\"8\" Format=\"HDF\">{}:/snapshots/{}/{}</DataItem>",
         dims.join(" "),
         escape(h5_name),
         escape(snap),
         escape(&field.name),
     );
+}
+
+fn attribute(out: &mut String, h5_name: &str, snap: &str, field: &XdmfField) {
+    let _ = writeln!(
+        out,
+        "        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">",
+        escape(&field.name),
+        attribute_type(&field.shape)
+    );
+    data_item(out, h5_name, snap, field, "          ");
+    out.push_str("        </Attribute>\n");
 }
 
 /// Renders the sidecar for `snapshots` of the file `h5_name` (a bare file name).
@@ -99,23 +136,36 @@ pub(crate) fn render(h5_name: &str, snapshots: &[XdmfSnapshot]) -> String {
         let _ = writeln!(out, "        <Time Value=\"{:?}\"/>", snap.time);
         let _ = writeln!(
             out,
-            "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{n}\" NodesPerElement=\"1\"/>"
+            "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{n}\" NodesPerElement=\"1\">"
         );
+        match snap
+            .vertex_ids
+            .as_ref()
+            .and_then(|id| snap.fields.iter().find(|f| &f.name == id))
+        {
+            Some(ids) => data_item(&mut out, h5_name, &snap.name, ids, "          "),
+            None => {
+                let _ = write!(
+                    out,
+                    "          <DataItem Dimensions=\"{n}\" NumberType=\"Int\" Precision=\"8\" Format=\"XML\">"
+                );
+                for k in 0..n {
+                    let _ = write!(out, "{}{k}", if k == 0 { "" } else { " " });
+                }
+                out.push_str("</DataItem>\n");
+            }
+        }
+        out.push_str("        </Topology>\n");
         out.push_str("        <Geometry GeometryType=\"XYZ\">\n");
         data_item(&mut out, h5_name, &snap.name, pos, "          ");
         out.push_str("        </Geometry>\n");
+        // `position` first (see the module documentation), then the others in file order.
+        attribute(&mut out, h5_name, &snap.name, pos);
         for field in &snap.fields {
             if field.name == "position" || field.shape.first() != Some(&n) {
                 continue;
             }
-            let _ = writeln!(
-                out,
-                "        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">",
-                escape(&field.name),
-                attribute_type(&field.shape)
-            );
-            data_item(&mut out, h5_name, &snap.name, field, "          ");
-            out.push_str("        </Attribute>\n");
+            attribute(&mut out, h5_name, &snap.name, field);
         }
         out.push_str("      </Grid>\n");
     }
@@ -137,6 +187,16 @@ mod tests {
         assert_eq!(attribute_type(&[5, 3, 3]), "Tensor");
         assert_eq!(attribute_type(&[5, 6]), "Tensor6");
         assert_eq!(attribute_type(&[5, 2, 2]), "Matrix");
+    }
+
+    #[test]
+    fn permutations_only() {
+        assert!(is_permutation(&[2, 0, 1], 3));
+        assert!(is_permutation(&[], 0));
+        assert!(!is_permutation(&[0, 0, 1], 3), "repeated");
+        assert!(!is_permutation(&[0, 1, 3], 3), "out of range");
+        assert!(!is_permutation(&[0, 1], 3), "too short");
+        assert!(!is_permutation(&[u64::MAX], 1));
     }
 
     #[test]

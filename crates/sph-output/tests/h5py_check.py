@@ -4,8 +4,8 @@
 Usage: h5py_check.py A.h5 B.h5   (exit 0 when identical, 1 otherwise)
 
 Compares, with h5py, the root attributes, /meta and /summary attributes (names, dtypes,
-values), every /snapshots/<n> (attributes time and step, dataset names, dtypes, shapes and
-bit-identical values) and every /probes/<name>/{time,position,velocity}. Also checks the
+values), every /snapshots/<n> (attributes time and step, dataset names, dtypes, shapes,
+bit-identical values and the storage: chunks, compression and its level, shuffle) and every /probes/<name>/{time,position,velocity}. Also checks the
 layout itself (the four top-level groups, the `json` attributes parse as JSON objects,
 position is [n, 3]) so that two files both wrong in the same way do not pass.
 """
@@ -52,6 +52,9 @@ def compare_datasets(where, a, b):
         return
     if a[()].tobytes() != b[()].tobytes():
         fail(f"{where}: values differ")
+    storage = lambda d: (d.chunks, d.compression, d.compression_opts, d.shuffle)
+    if storage(a) != storage(b):
+        fail(f"{where}: stored differently (chunks, compression, level, shuffle): {storage(a)} vs {storage(b)}")
 
 
 def check_layout(name, f):

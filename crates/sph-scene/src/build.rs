@@ -992,7 +992,9 @@ impl Scene {
         }
         Ok(Schedule {
             end_time,
-            snapshot_interval: o.snapshot_interval.unwrap_or(end_time / 50.0),
+            snapshot_interval: o
+                .snapshot_interval
+                .unwrap_or(end_time / f64::from(sph_driver::DEFAULT_SNAPSHOTS)),
             monitor_interval: o
                 .monitor_interval
                 .filter(|&m| m > 0.0)

@@ -17,6 +17,7 @@
 use crate::damping::damping_kirchhoff;
 use crate::original::nan_matrix;
 use rayon::prelude::*;
+use sph_core::parallel::MIN_PARTICLES_PER_TASK;
 use sph_core::{Dim, NeighborList};
 use sph_materials::Material;
 
@@ -61,16 +62,19 @@ pub fn acceleration<D: Dim>(
     zeta_g_over_rho: f64,
     acc: &mut [D::Vector],
 ) {
-    acc.par_iter_mut().enumerate().for_each(|(i, a)| {
-        let (pi, xi, ji) = (remaining[i], positions[i], isochoric[i]);
-        let mut div = D::zero();
-        let mut shear = D::zero();
-        let r = list.range(i);
-        for ((g, s), &j) in grad_v[r.clone()].iter().zip(&lap[r]).zip(list.neighbors(i)) {
-            let j = j as usize;
-            div += (pi + remaining[j]) * *g;
-            shear += (xi - positions[j]) * ((ji + isochoric[j]) * s);
-        }
-        *a = div * inv_density + shear * zeta_g_over_rho;
-    });
+    acc.par_iter_mut()
+        .with_min_len(MIN_PARTICLES_PER_TASK)
+        .enumerate()
+        .for_each(|(i, a)| {
+            let (pi, xi, ji) = (remaining[i], positions[i], isochoric[i]);
+            let mut div = D::zero();
+            let mut shear = D::zero();
+            let r = list.range(i);
+            for ((g, s), &j) in grad_v[r.clone()].iter().zip(&lap[r]).zip(list.neighbors(i)) {
+                let j = j as usize;
+                div += (pi + remaining[j]) * *g;
+                shear += (xi - positions[j]) * ((ji + isochoric[j]) * s);
+            }
+            *a = div * inv_density + shear * zeta_g_over_rho;
+        });
 }

@@ -4,6 +4,7 @@
 
 use crate::damping::damping_piola;
 use rayon::prelude::*;
+use sph_core::parallel::MIN_PARTICLES_PER_TASK;
 use sph_core::{Dim, NeighborList};
 use sph_materials::Material;
 
@@ -39,15 +40,18 @@ pub fn stress_divergence<D: Dim>(
     inv_density: f64,
     acc: &mut [D::Vector],
 ) {
-    acc.par_iter_mut().enumerate().for_each(|(i, a)| {
-        let si = stress[i];
-        let mut sum = D::zero();
-        let r = list.range(i);
-        for (g, &j) in grad_v[r.clone()].iter().zip(list.neighbors(i)) {
-            sum += (si + stress[j as usize]) * *g;
-        }
-        *a = sum * inv_density;
-    });
+    acc.par_iter_mut()
+        .with_min_len(MIN_PARTICLES_PER_TASK)
+        .enumerate()
+        .for_each(|(i, a)| {
+            let si = stress[i];
+            let mut sum = D::zero();
+            let r = list.range(i);
+            for (g, &j) in grad_v[r.clone()].iter().zip(list.neighbors(i)) {
+                sum += (si + stress[j as usize]) * *g;
+            }
+            *a = sum * inv_density;
+        });
 }
 
 /// Eq 22: `Ḟ_i = (Σ_j (v_j − v_i) ⊗ V_j ∇⁰_i W_ij) B_i`, written into `f_dot`.
@@ -58,14 +62,18 @@ pub fn deformation_rate<D: Dim>(
     velocities: &[D::Vector],
     f_dot: &mut [D::Matrix],
 ) {
-    f_dot.par_iter_mut().enumerate().for_each(|(i, fd)| {
-        let vi = velocities[i];
-        let mut sum = D::zero_matrix();
-        for (g, &j) in grad_v[list.range(i)].iter().zip(list.neighbors(i)) {
-            sum += D::outer(velocities[j as usize] - vi, *g);
-        }
-        *fd = sum * correction[i];
-    });
+    f_dot
+        .par_iter_mut()
+        .with_min_len(MIN_PARTICLES_PER_TASK)
+        .enumerate()
+        .for_each(|(i, fd)| {
+            let vi = velocities[i];
+            let mut sum = D::zero_matrix();
+            for (g, &j) in grad_v[list.range(i)].iter().zip(list.neighbors(i)) {
+                sum += D::outer(velocities[j as usize] - vi, *g);
+            }
+            *fd = sum * correction[i];
+        });
 }
 
 /// `F_i = I + (Σ_j (u_j − u_i) ⊗ V_j ∇⁰_i W_ij) B_i` for displacements `u = x − X`: the
@@ -80,6 +88,7 @@ pub fn deformation_gradient<D: Dim>(
 ) -> Vec<D::Matrix> {
     (0..list.len())
         .into_par_iter()
+        .with_min_len(MIN_PARTICLES_PER_TASK)
         .map(|i| {
             let ui = current[i] - reference[i];
             let mut sum = D::zero_matrix();

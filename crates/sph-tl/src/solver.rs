@@ -11,6 +11,7 @@ use sph_core::disorder::disorder_indicator;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
 use sph_core::pairs::pair_kernels;
+use sph_core::parallel::MIN_PARTICLES_PER_TASK;
 use sph_core::relaxation::{PairwiseDamper, PairwiseDamping};
 use sph_core::scene::{ProbeSchedule, Series};
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
@@ -576,6 +577,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             self.min_stretch = self
                 .deformation
                 .par_iter()
+                .with_min_len(MIN_PARTICLES_PER_TASK)
                 .zip(&self.free)
                 .filter(|(_, &f)| f)
                 .map(|(&m, _)| D::min_singular_value(m))
@@ -586,6 +588,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             self.max_stretch = self
                 .deformation
                 .par_iter()
+                .with_min_len(MIN_PARTICLES_PER_TASK)
                 .map(|&m| D::frobenius(m))
                 .reduce(|| 1.0, f64::max);
         }
@@ -620,6 +623,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             PairData::Original | PairData::Ganzenmuller { .. } => {
                 self.stress
                     .par_iter_mut()
+                    .with_min_len(MIN_PARTICLES_PER_TASK)
                     .zip(&self.deformation)
                     .zip(&self.deformation_rate)
                     .zip(&self.correction)
@@ -650,6 +654,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                 let zeta = *zeta;
                 self.stress
                     .par_iter_mut()
+                    .with_min_len(MIN_PARTICLES_PER_TASK)
                     .zip(&mut self.isochoric)
                     .zip(&self.deformation)
                     .zip(&self.deformation_rate)
@@ -837,6 +842,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         // Eq 31: velocities to the full step.
         self.velocities
             .par_iter_mut()
+            .with_min_len(MIN_PARTICLES_PER_TASK)
             .zip(&self.accelerations)
             .for_each(|(v, &a)| *v += a * dt);
         // Frictionless contact with the tools, then the quasi-static relaxation of the
@@ -911,6 +917,11 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         self.steps
     }
 
+    fn pair_visits(&self) -> Option<u64> {
+        // One force evaluation per step over a list fixed in the reference configuration.
+        Some(self.steps * self.list.num_pairs() as u64)
+    }
+
     fn positions(&self) -> &[D::Vector] {
         &self.positions
     }
@@ -972,7 +983,11 @@ fn half_step<D: Dim>(
     h: f64,
 ) {
     f.par_iter_mut()
+        .with_min_len(MIN_PARTICLES_PER_TASK)
         .zip(f_dot)
         .for_each(|(f, &fd)| *f += fd * h);
-    x.par_iter_mut().zip(v).for_each(|(x, &v)| *x += v * h);
+    x.par_iter_mut()
+        .with_min_len(MIN_PARTICLES_PER_TASK)
+        .zip(v)
+        .for_each(|(x, &v)| *x += v * h);
 }

@@ -271,6 +271,9 @@ pub struct UlSolver<D: Dim> {
     first_isolation: Option<f64>,
     // Scratch (allocated once).
     pressures: Vec<f64>,
+    /// `V_j = m_j/ρ_j` of the current densities, set with the pressures (the pair loops read it
+    /// instead of dividing per pair).
+    current_volumes: Vec<f64>,
     accelerations: Vec<D::Vector>,
     artificial: Vec<D::Matrix>,
     volumes: Vec<f64>,
@@ -282,6 +285,8 @@ pub struct UlSolver<D: Dim> {
     time: f64,
     steps: u64,
     acoustic_steps: u64,
+    /// Pairs visited by the force evaluations so far ([`Solver::pair_visits`]).
+    pair_visits: u64,
     rebuilds: u64,
     max_speed: f64,
 }
@@ -381,6 +386,7 @@ impl<D: Dim> UlSolver<D> {
             isolated_max: 0,
             first_isolation: None,
             pressures: vec![0.0; n],
+            current_volumes: vec![0.0; n],
             accelerations: vec![D::zero(); n],
             artificial: if matches!(variant, Variant::Artificial { .. }) {
                 vec![D::zero_matrix(); n]
@@ -395,6 +401,7 @@ impl<D: Dim> UlSolver<D> {
             time: 0.0,
             steps: 0,
             acoustic_steps: 0,
+            pair_visits: 0,
             rebuilds: 0,
             max_speed: 0.0,
         };
@@ -691,6 +698,11 @@ impl<D: Dim> UlSolver<D> {
             .iter_mut()
             .zip(&self.densities)
             .for_each(|(p, &rho)| *p = pressure(rho, rho0, c0));
+        self.current_volumes
+            .iter_mut()
+            .zip(&self.masses)
+            .zip(&self.densities)
+            .for_each(|((v, &m), &rho)| *v = m / rho);
     }
 
     /// Step 4 of the module docs: continuity (eq 11), the Jaumann rate of `τ` (eq 6–8, 14/26)
@@ -723,10 +735,10 @@ impl<D: Dim> UlSolver<D> {
     fn rates_loop<const GRAD: bool, const LAP: u8>(&mut self, corrected: bool, factor: f64) {
         let list = &self.list;
         let pairs = &self.pairs;
-        let (x_v, rho, m, p, tau, b) = (
+        let (x_v, rho, vol, p, tau, b) = (
             &self.velocities,
             &self.densities,
-            &self.masses,
+            &self.current_volumes,
             &self.pressures,
             &self.stress,
             &self.correction,
@@ -739,7 +751,7 @@ impl<D: Dim> UlSolver<D> {
             let mut lap = D::zero();
             for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
                 let j = j as usize;
-                let v_j = m[j] / rho[j];
+                let v_j = vol[j];
                 let v_ij = v_i - x_v[j];
                 let u = D::dot(v_ij, pk.e);
                 drho += continuity_pair(u, p_i, p[j], rho0_c0, scheme) * pk.dw * v_j;
@@ -814,10 +826,10 @@ impl<D: Dim> UlSolver<D> {
     fn forces_loop<S: ShearForce<D>>(&self, shear: S, out: &mut [D::Vector]) {
         let list = &self.list;
         let pairs = &self.pairs;
-        let (vel, rho, m, p) = (
+        let (vel, rho, vol, p) = (
             &self.velocities,
             &self.densities,
-            &self.masses,
+            &self.current_volumes,
             &self.pressures,
         );
         let (rho0, c0, scheme) = (self.rho0, self.c0, self.params.riemann);
@@ -826,7 +838,7 @@ impl<D: Dim> UlSolver<D> {
             let mut acc = D::zero();
             for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
                 let j = j as usize;
-                let vj_rho_i = m[j] / rho[j] * inv_rho_i;
+                let vj_rho_i = vol[j] * inv_rho_i;
                 let u = D::dot(v_i - vel[j], pk.e);
                 let p_star = interface_pressure(p_i, p[j], u, rho0, c0, scheme);
                 acc += pk.e * pressure_pair_factor(p_star, pk.dw, vj_rho_i);
@@ -895,6 +907,7 @@ impl<D: Dim> UlSolver<D> {
         }
         self.max_speed = max_norm::<D>(&self.velocities, &self.free);
         self.acoustic_steps += 1;
+        self.pair_visits += (self.list.num_pairs() + self.contact_list.num_pairs()) as u64;
     }
 
     /// `x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt` (eq 23 and 25).
@@ -1223,21 +1236,11 @@ impl<D: Dim> ShearForce<D> for AccumulatedShear<'_, D> {
     }
 }
 
-/// Bodies smaller than this run the neighbour gathers on the calling thread (as
-/// `sph_mps::wls::PARALLEL_THRESHOLD`): below it the hand-off to the rayon pool costs more than
-/// the loop. Results are identical either way (gathers write only their own entry and sum in
-/// neighbour-list order).
-pub const PARALLEL_THRESHOLD: usize = 1024;
+/// Loops over fewer particles than twice this run on the calling thread (one threshold for
+/// every method: [`sph_core::parallel`]).
+pub const PARALLEL_THRESHOLD: usize = sph_core::parallel::MIN_PARTICLES_PER_TASK;
 
-/// `f(i, &mut out[i])` for every `i`: on the rayon pool for large bodies, else on this thread.
-#[inline]
-fn gather<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
-    if out.len() >= PARALLEL_THRESHOLD {
-        out.par_iter_mut().enumerate().for_each(|(i, o)| f(i, o));
-    } else {
-        out.iter_mut().enumerate().for_each(|(i, o)| f(i, o));
-    }
-}
+use sph_core::parallel::gather;
 
 /// Checks a per-particle array: length `n` (or empty if `optional`), every entry finite and > 0.
 fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Result<(), Error> {
@@ -1352,6 +1355,10 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         self.time
     }
 
+    fn pair_visits(&self) -> Option<u64> {
+        Some(self.pair_visits)
+    }
+
     fn step_count(&self) -> u64 {
         self.steps
     }
@@ -1362,6 +1369,11 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
 
     fn velocities(&self) -> &[D::Vector] {
         &self.velocities
+    }
+
+    /// [`UlSolver::original_index`]: the input index of each particle in the current order.
+    fn particle_ids(&self) -> std::borrow::Cow<'_, [u32]> {
+        std::borrow::Cow::Borrowed(&self.original_index)
     }
 
     fn field_names(&self) -> Vec<&'static str> {

@@ -15,7 +15,9 @@
 //! `validate` adopts the finished file instead of running again.
 
 use clap::{Parser, Subcommand};
-use sph_validation::{extreme, h5report, mps, mps_stab, plot, store, tl, ul, workspace_root};
+use sph_validation::{
+    extreme, h5report, mps, mps_stab, plot, store, tl, tradeoff, ul, workspace_root,
+};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
@@ -80,6 +82,18 @@ enum Command {
         force: bool,
     },
     /// Regenerate docs/validation.md from the stored runs.
+    /// Speed–accuracy runs (Pareto fronts) and the stability map, then the reports
+    /// (docs/tradeoffs.md). Hours in full; `--quick` runs coarse resolutions and a reduced map
+    Tradeoff {
+        #[arg(long)]
+        quick: bool,
+        #[arg(long)]
+        force: bool,
+        /// Only the scenes/sweeps whose key starts with this (plate, homog, cantilever, lame,
+        /// rings, column)
+        #[arg(long)]
+        only: Option<String>,
+    },
     Report,
 }
 
@@ -133,6 +147,17 @@ fn main() -> ExitCode {
     }
     if cli.plan {
         return ExitCode::SUCCESS;
+    }
+    if let Command::Tradeoff { quick, force, only } = &cli.command {
+        let (quick, force, only) = (*quick, *force, only.clone());
+        if let Err(e) = tradeoff::run_all(tradeoff::Selection { quick, force, only }) {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    }
+    if let Err(e) = tradeoff::report(&workspace_root()) {
+        eprintln!("error: {e}");
+        return ExitCode::from(1);
     }
     match report() {
         Ok(()) => ExitCode::SUCCESS,

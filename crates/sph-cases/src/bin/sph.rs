@@ -3,7 +3,8 @@
 //! ```text
 //! sph list [--verbose]
 //! sph run <case> [--method M] [--set key=value]... [--config case.toml] [--out DIR]
-//!         [--summary FILE.json] [--backend pure|hdf5-metno] [--threads N] [--no-output]
+//!         [--summary FILE.json] [--backend pure|hdf5-metno] [--compress[=LEVEL]]
+//!         [--threads N] [--no-output]
 //!         [--max-memory GIB] [--allow-long-run] [--dry-run]
 //! ```
 //! Exit status: 0 on success, 2 for bad input (one line on stderr; nothing is written), 1 when
@@ -19,7 +20,7 @@ use sph_cases::preflight::{write_summary, RunFiles};
 use sph_cases::runner::{Interrupt, Progress, ProgressSink};
 use sph_cases::{all_cases, find_case, resolve_method, CaseError, RunOptions, Value};
 use sph_core::budget::{self, Budget};
-use sph_output::Backend;
+use sph_output::{Backend, Compression};
 use sph_scene::Scene;
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -86,6 +87,16 @@ struct RunArgs {
     /// HDF5 backend: `pure` (default) or `hdf5-metno` (needs the cargo feature).
     #[arg(long, default_value = "pure")]
     backend: String,
+    /// Compress the HDF5 datasets (shuffle + deflate; any HDF5 reader decodes them) at this
+    /// zlib level, 1 (fastest) to 9 (smallest): `--compress=LEVEL`, or `--compress` for 4.
+    #[arg(
+        long,
+        value_name = "LEVEL",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "4"
+    )]
+    compress: Option<u8>,
     /// Worker threads, 1 to 1024 (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -354,6 +365,19 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
             "backend `{backend}` needs sph built with `--features hdf5-metno`"
         )));
     }
+    let compression = match a.compress {
+        None => Compression::None,
+        Some(level) => Compression::deflate(level).map_err(|_| CaseError::InvalidValue {
+            key: "--compress".into(),
+            value: level.to_string(),
+            allowed: "a deflate level, 1 (fastest) to 9 (smallest)".into(),
+        })?,
+    };
+    if a.no_output && compression != Compression::None {
+        return Err(CaseError::Config(
+            "--compress compresses the results file; --no-output writes none".into(),
+        ));
+    }
     let budget = match a.max_memory {
         Some(gib) if gib.is_finite() && gib > 0.0 && gib <= 1e9 => Budget::with_limit(
             (gib * (1u64 << 30) as f64) as u64,
@@ -409,6 +433,7 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
     let options = RunOptions {
         output: results,
         backend,
+        compression,
         progress: progress_display(std::io::stderr().is_terminal(), a.log_every)?,
         allow_long_run: a.allow_long_run,
         dry_run: a.dry_run,

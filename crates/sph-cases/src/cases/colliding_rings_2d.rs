@@ -47,7 +47,7 @@ use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{annulus_polar, ParticleSet};
 use sph_core::Body;
-use sph_core::{Field, Probe, Solver, D2};
+use sph_core::{Probe, Solver, D2};
 use sph_materials::{ElasticConstants, MaterialKind};
 use sph_mps::Contact;
 
@@ -287,13 +287,10 @@ fn rings_summary(s: &dyn Solver<D2>, nl: usize, dp: f64, contact: bool) -> Map<S
     }
     // Ring membership by input index (UL reorders its particles and says where they went).
     let v = s.velocities();
-    let original: Vec<usize> = match s.field("original_index") {
-        Some(Field::Scalar(ix)) => ix.iter().map(|&i| i as usize).collect(),
-        _ => (0..v.len()).collect(),
-    };
+    let original = s.particle_ids();
     let (mut sum, mut cnt) = ([0.0; 2], [0usize; 2]);
-    for (vk, &o) in v.iter().zip(&original) {
-        let r = usize::from(o >= nl);
+    for (vk, &o) in v.iter().zip(original.iter()) {
+        let r = usize::from(o as usize >= nl);
         sum[r] += vk.x;
         cnt[r] += 1;
     }

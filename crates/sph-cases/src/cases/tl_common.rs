@@ -125,12 +125,18 @@ pub fn meta(case: &str, method: &str, p: &Params, particles: usize) -> Map<Strin
     m
 }
 
-/// The schedule from the common keys.
+/// The schedule from the common keys ([`crate::runner::output_params`]).
 pub fn schedule(p: &Params, end_time: f64) -> Schedule {
     let monitor = p.f64("monitor_interval");
+    let snapshots = p.f64("snapshot_interval");
     Schedule {
         end_time,
-        snapshot_interval: p.f64("snapshot_interval"),
+        snapshot_interval: if snapshots > 0.0 {
+            snapshots
+        } else {
+            // `snapshots = 1` gives `end_time`: the first and last only.
+            end_time / p.int("snapshots").max(1) as f64
+        },
         monitor_interval: if monitor > 0.0 {
             monitor
         } else {

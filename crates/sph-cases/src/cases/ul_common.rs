@@ -140,7 +140,8 @@ pub fn ul_numerics(p: &Params) -> UlParams {
     }
 }
 
-/// Output fields written with every UL snapshot.
+/// Output fields written with every UL snapshot (besides `position` and `id`, which the
+/// driver writes for every method; `id` is UL's original index).
 pub const UL_FIELDS: &[&str] = &[
     "velocity",
     "displacement",
@@ -148,7 +149,6 @@ pub const UL_FIELDS: &[&str] = &[
     "pressure",
     "von_mises",
     "disorder",
-    "original_index",
 ];
 
 /// Builds a UL solver and runs it: the tail every UL case shares. `attach` receives the solver

@@ -4,9 +4,11 @@
 use std::path::{Path, PathBuf};
 
 use serde_json::{json, Map, Value};
-use sph_output::{create_writer, Backend, Dataset, ResultWriter};
+use sph_output::{create_writer_with, Backend, Compression, Dataset, ResultWriter};
 
-pub const N: usize = 7;
+/// Particles per snapshot: enough that every per-particle dataset is over the 1 KiB from
+/// which compressed writers chunk and deflate it.
+pub const N: usize = 200;
 
 pub fn meta() -> Map<String, Value> {
     json!({
@@ -71,7 +73,10 @@ pub fn snapshot(k: usize) -> (f64, u64, Vec<Dataset>) {
             m
         })
         .collect();
-    let ids: Vec<u64> = (0..N as u64).map(|i| u64::MAX - 100 + i).collect();
+    // Ids beyond 2^63 (and no permutation of 0..N: the XDMF connectivity is inline).
+    let ids: Vec<u64> = (0..N as u64)
+        .map(|i| u64::MAX - (N as u64 - 1) + i)
+        .collect();
     (
         0.25 * k as f64 + 1e-17,
         100 * k as u64 + 7,
@@ -103,7 +108,13 @@ pub const PROBES: [(&str, usize, usize); 2] = [("tip", 3, 11), ("mid point", 4, 
 
 /// Writes the standard content to `<base>.h5` and returns its path.
 pub fn write_all(base: &Path, backend: Backend) -> PathBuf {
-    let mut w: Box<dyn ResultWriter> = create_writer(base, backend).expect("create writer");
+    write_all_with(base, backend, Compression::None)
+}
+
+/// [`write_all`] with a dataset compression.
+pub fn write_all_with(base: &Path, backend: Backend, compression: Compression) -> PathBuf {
+    let mut w: Box<dyn ResultWriter> =
+        create_writer_with(base, backend, compression).expect("create writer");
     w.write_meta(&meta()).unwrap();
     for k in 0..3 {
         let (t, s, d) = snapshot(k);
@@ -191,4 +202,77 @@ pub fn leftovers(dir: &Path) -> Vec<String> {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .filter(|n| n.ends_with(".tmp") || n.ends_with(".lock"))
         .collect()
+}
+
+/// A large, smooth snapshot (a rotating, stretching block of `n` particles): compressible like
+/// a real run's, and with `[n, 3, 3]` matrices several chunks long (the last one partial).
+pub fn smooth_snapshot(n: usize, t: f64) -> Vec<Dataset> {
+    let side = (n as f64).cbrt().ceil() as usize;
+    let x0: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            let (a, b, c) = (i % side, (i / side) % side, i / (side * side));
+            [a as f64 * 0.01, b as f64 * 0.01, c as f64 * 0.01]
+        })
+        .collect();
+    let (s, c) = (t.sin(), t.cos());
+    let f = [
+        [c * (1.0 + t), -s, 0.0],
+        [s, c, 0.0],
+        [0.0, 0.0, 1.0 / (1.0 + t)],
+    ];
+    let pos: Vec<[f64; 3]> = x0
+        .iter()
+        .map(|x| std::array::from_fn(|r| (0..3).map(|k| f[r][k] * x[k]).sum()))
+        .collect();
+    let vel: Vec<[f64; 3]> = pos.iter().map(|p| [-p[1], p[0], 0.1 * p[2]]).collect();
+    let vm: Vec<f64> = pos
+        .iter()
+        .map(|p| 1e6 * (p[0] * p[0] + p[1]).sqrt())
+        .collect();
+    let ids: Vec<u64> = (0..n as u64).rev().collect();
+    vec![
+        Dataset::vectors("position", &pos),
+        Dataset::u64_scalars("id", &ids),
+        Dataset::vectors("velocity", &vel),
+        Dataset::scalars("von_mises", &vm),
+        Dataset::matrices("deformation_gradient", &vec![f; n]),
+    ]
+}
+
+/// Writes two [`smooth_snapshot`]s of `n` particles to `<base>.h5`.
+pub fn write_smooth(base: &Path, backend: Backend, compression: Compression, n: usize) -> PathBuf {
+    let mut w = create_writer_with(base, backend, compression).expect("create writer");
+    for (k, t) in [0.0, 0.5].into_iter().enumerate() {
+        w.write_snapshot(t, k as u64, &smooth_snapshot(n, t))
+            .unwrap();
+    }
+    w.finish().expect("finish")
+}
+
+/// Whether `python3` can import all of `modules`.
+pub fn python_has(modules: &[&str]) -> bool {
+    std::process::Command::new("python3")
+        .args(["-c", &format!("import {}", modules.join(", "))])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+/// Runs `python3 tests/<script> args…` and asserts it succeeds, printing its output.
+pub fn run_python_check(script: &str, args: &[&Path]) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests")
+        .join(script);
+    let out = std::process::Command::new("python3")
+        .arg(&path)
+        .args(args)
+        .output()
+        .expect("run python3");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("{text}");
+    assert!(out.status.success(), "{script} failed:\n{text}");
 }

@@ -1,0 +1,194 @@
+//! Costed runs: a case run as a user runs it (`sph run … --threads 2 --no-output`) in a child
+//! process, with its CPU time, wall time and peak memory (from `wait4`), stored as JSON under
+//! `validation/results/tradeoff/` and reused when the same run is asked for again.
+
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::Instant;
+
+/// Threads of every costed run (the machine has two cores).
+pub const THREADS: usize = 2;
+
+/// One costed run.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CostedRun {
+    /// Identifier (file stem).
+    pub id: String,
+    /// Case.
+    pub case: String,
+    /// Method.
+    pub method: String,
+    /// The `--set` assignments.
+    pub set: Vec<String>,
+    /// The command that reproduces this run.
+    pub command: String,
+    /// Exit code of `sph` (0 completed, 1 failed during the run, 2 rejected input).
+    pub exit_code: i32,
+    /// User + system CPU seconds of the child process.
+    pub cpu_seconds: f64,
+    /// Wall seconds.
+    pub wall_seconds: f64,
+    /// Peak resident memory of the child (MiB).
+    pub max_rss_mib: f64,
+    /// The run's summary without its monitor history (absent when the input was rejected).
+    pub summary: Map<String, Value>,
+    /// The first line `sph` printed on stderr when it did not complete.
+    pub message: String,
+}
+
+impl CostedRun {
+    /// A summary number.
+    pub fn num(&self, key: &str) -> Option<f64> {
+        self.summary.get(key).and_then(Value::as_f64)
+    }
+
+    /// The summary's status, `rejected: …` when the input was refused before the run.
+    pub fn status(&self) -> String {
+        match self.summary.get("status").and_then(Value::as_str) {
+            Some(s) => s.to_string(),
+            None if self.exit_code == 2 => format!("rejected: {}", self.message),
+            None => format!("failed: {}", self.message),
+        }
+    }
+
+    /// Neighbour-pair visits per particle-step normalised work: `pair_visits`.
+    pub fn work(&self) -> Option<f64> {
+        self.num("pair_visits")
+    }
+}
+
+/// Directory of the stored costed runs.
+pub fn dir() -> PathBuf {
+    crate::store::results_dir().join("tradeoff")
+}
+
+/// The stored run `id`, if present.
+pub fn load(id: &str) -> Option<CostedRun> {
+    let text = std::fs::read_to_string(dir().join(format!("{id}.json"))).ok()?;
+    serde_json::from_str(&text).ok()
+}
+
+/// The `sph` binary next to this one (both built by `cargo build --release`).
+fn sph_binary() -> Result<PathBuf, String> {
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let sph = exe.with_file_name("sph");
+    if sph.is_file() {
+        Ok(sph)
+    } else {
+        Err(format!(
+            "{} not found: build it first with `cargo build --release -p sph-cases --bin sph`",
+            sph.display()
+        ))
+    }
+}
+
+/// Runs `sph run case --method method --set …` (2 threads, no output) unless `id` is stored
+/// with the same arguments (or `force`); stores and returns it.
+pub fn run_or_load(
+    id: &str,
+    case: &str,
+    method: &str,
+    set: &[String],
+    force: bool,
+) -> Result<CostedRun, String> {
+    if !force {
+        if let Some(r) = load(id) {
+            if r.set == set && r.method == method && r.case == case {
+                return Ok(r);
+            }
+        }
+    }
+    let sph = sph_binary()?;
+    std::fs::create_dir_all(dir()).map_err(|e| format!("{}: {e}", dir().display()))?;
+    let summary_path = dir().join(format!("{id}.summary.tmp.json"));
+    let _ = std::fs::remove_file(&summary_path);
+    let mut args: Vec<String> = vec!["run".into(), case.into(), "--method".into(), method.into()];
+    for s in set {
+        args.push("--set".into());
+        args.push(s.clone());
+    }
+    args.extend([
+        "--threads".into(),
+        THREADS.to_string(),
+        "--no-output".into(),
+    ]);
+    let command = format!("sph {}", args.join(" "));
+    args.push("--summary".into());
+    args.push(summary_path.display().to_string());
+    eprintln!("running {id}: {command}");
+    let started = Instant::now();
+    let child = Command::new(&sph)
+        .args(&args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("{}: {e}", sph.display()))?;
+    let (exit_code, usage, stderr) = wait_with_usage(child)?;
+    let wall_seconds = started.elapsed().as_secs_f64();
+    let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    let mut summary: Map<String, Value> = std::fs::read_to_string(&summary_path)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .unwrap_or_default();
+    let _ = std::fs::remove_file(&summary_path);
+    summary.remove("monitor");
+    let message = if exit_code == 0 {
+        String::new()
+    } else {
+        stderr
+            .lines()
+            .find(|l| l.starts_with("error"))
+            .or_else(|| stderr.lines().last())
+            .unwrap_or("")
+            .to_string()
+    };
+    let run = CostedRun {
+        id: id.into(),
+        case: case.into(),
+        method: method.into(),
+        set: set.to_vec(),
+        command,
+        exit_code,
+        cpu_seconds: secs(usage.ru_utime) + secs(usage.ru_stime),
+        wall_seconds,
+        // ru_maxrss is in KiB on Linux.
+        max_rss_mib: usage.ru_maxrss as f64 / 1024.0,
+        summary,
+        message,
+    };
+    let path = dir().join(format!("{id}.json"));
+    std::fs::write(&path, serde_json::to_string(&run).expect("serialises"))
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(run)
+}
+
+/// Waits for `child` with `wait4`, which reports that child's own resource usage; returns the
+/// exit code (128 + signal when killed), the usage and the child's stderr.
+fn wait_with_usage(mut child: std::process::Child) -> Result<(i32, libc::rusage, String), String> {
+    use std::io::Read;
+    // Drain stderr on a thread so a chatty child cannot block on a full pipe.
+    let mut err = child.stderr.take().expect("stderr is piped");
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = err.read_to_string(&mut s);
+        s
+    });
+    let pid = child.id() as libc::pid_t;
+    let mut status: libc::c_int = 0;
+    // SAFETY: wait4 writes into the zeroed rusage and the status we own; `pid` is our child,
+    // not yet waited for (std's Child::wait is never called on it).
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    if r != pid {
+        return Err(format!("wait4: {}", std::io::Error::last_os_error()));
+    }
+    let code = if libc::WIFEXITED(status) {
+        libc::WEXITSTATUS(status)
+    } else {
+        128 + libc::WTERMSIG(status)
+    };
+    let stderr = reader.join().unwrap_or_default();
+    Ok((code, usage, stderr))
+}

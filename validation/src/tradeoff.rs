@@ -1,0 +1,922 @@
+//! The speed–accuracy trade and the stability limits (`validate tradeoff`, docs/tradeoffs.md).
+//!
+//! **Pareto fronts.** Every method that can run a scene, at several resolutions, each run costed
+//! as a user runs it ([`crate::cost`]: 2 threads, no output, CPU seconds and peak memory of the
+//! `sph` process, and the machine-independent work `pair_visits` = neighbour pairs visited by
+//! the force evaluations). The error of each run against a reference that does not depend on
+//! that run: a closed form where one exists, otherwise a Richardson extrapolation (stated per
+//! scene).
+//!
+//! **Stability map.** A severity parameter swept per scene and method; each cell is ordered
+//! (completed, largest disorder indicator ≤ [`DISORDER_LIMIT`]), disordered, failed (with the
+//! reason) or rejected (the input is outside the parameter's allowed range).
+
+use crate::cost::{run_or_load, CostedRun};
+use crate::plot;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct Selection {
+    /// Coarse resolutions and a reduced map only (minutes).
+    pub quick: bool,
+    /// Re-run stored runs.
+    pub force: bool,
+    /// Only the scenes and sweeps whose key starts with this (e.g. `plate`, `homog`, `rings`).
+    pub only: Option<String>,
+}
+
+/// Largest disorder indicator of a run still called ordered. From the stored validation runs
+/// and their pictures (docs/validation.md): TL-HF's plate at v_f = 0.15 peaks at 0.12 and
+/// UL-ENOG's colliding rings at 0.04–0.06, both visibly ordered; TL-GM's plate at 0.55, OAS's
+/// rings at 0.31–1.8 (zigzag) and OG's at 1.6–2.6 (fracture) are visibly disordered.
+pub const DISORDER_LIMIT: f64 = 0.25;
+
+/// How a run's error is measured.
+#[derive(Clone, Copy)]
+enum Measure {
+    /// Summary key `num`, its reference the Richardson extrapolation of `reference_line`'s
+    /// finest three resolutions.
+    Extrapolated {
+        num: &'static str,
+        reference_line: &'static str,
+    },
+    /// `|num / den − 1|` of two summary keys (a closed form computed by the case).
+    ClosedForm {
+        num: &'static str,
+        den: &'static str,
+    },
+    /// A summary key that already is the relative error.
+    Error { key: &'static str },
+}
+
+/// One line of a Pareto plot: a method (and variant) over resolutions.
+struct Line {
+    label: &'static str,
+    method: &'static str,
+    extra: &'static [&'static str],
+}
+
+/// One scene of the speed–accuracy study.
+struct Scene {
+    key: &'static str,
+    title: &'static str,
+    case: &'static str,
+    fixed: &'static [&'static str],
+    resolution_key: &'static str,
+    quick: &'static [f64],
+    full: &'static [f64],
+    lines: Vec<Line>,
+    measure: Measure,
+    reference_note: &'static str,
+}
+
+fn line(label: &'static str, method: &'static str, extra: &'static [&'static str]) -> Line {
+    Line {
+        label,
+        method,
+        extra,
+    }
+}
+
+fn scenes() -> Vec<Scene> {
+    vec![
+        Scene {
+            key: "plate2d",
+            title: "2D oscillating plate: period (v_f = 0.05, to t = 0.6 s)",
+            case: "oscillating-plate-2d",
+            fixed: &["end_time=0.6"],
+            resolution_key: "resolution",
+            quick: &[4.0, 6.0, 8.0],
+            full: &[5.0, 10.0, 20.0, 40.0],
+            lines: vec![
+                line("tl", "tl", &[]),
+                line("tl-hf", "tl-hf", &[]),
+                line("tl-gm", "tl-gm", &[]),
+                line("ul-og", "ul-og", &[]),
+                line("ul-oas", "ul-oas", &[]),
+                line("ul-enog", "ul-enog", &[]),
+                line("ul-enog single", "ul-enog", &["stepping=single"]),
+                line("ul-enog frozen", "ul-enog", &["refresh_kernel_data=false"]),
+            ],
+            measure: Measure::Extrapolated {
+                num: "period",
+                reference_line: "tl-hf",
+            },
+            reference_note: "Reference: the Richardson extrapolation of TL-HF's three finest \
+                resolutions (order fitted to the three values). Every method converges to the \
+                same continuum period, so one reference serves all; each method's own \
+                extrapolated limit is listed too.",
+        },
+        Scene {
+            key: "homog",
+            title: "Homogeneous plane-strain compression by 20 %: punch force",
+            case: "punching-strip-2d",
+            fixed: &["punch_width=0.027", "compression=0.2"],
+            resolution_key: "resolution",
+            quick: &[10.0, 15.0, 20.0],
+            full: &[10.0, 20.0, 30.0, 45.0, 60.0],
+            lines: vec![
+                line("tl", "tl", &[]),
+                line("tl-hf", "tl-hf", &[]),
+                line("tl-gm", "tl-gm", &[]),
+            ],
+            measure: Measure::ClosedForm {
+                num: "reaction_force",
+                den: "theory_homogeneous_force",
+            },
+            reference_note: "Reference: the closed-form homogeneous plane-strain state of the \
+                compressible neo-Hookean law (the punches are wider than the bulged strip, so \
+                the state is homogeneous).",
+        },
+        Scene {
+            key: "cantilever",
+            title: "Static cantilever under a tip load (MPS): tip deflection",
+            case: "static-cantilever-2d",
+            fixed: &["end_time=2.0"],
+            resolution_key: "resolution",
+            quick: &[4.0, 6.0],
+            full: &[5.0, 10.0, 20.0, 40.0],
+            lines: vec![line("mps", "mps", &[])],
+            measure: Measure::Error {
+                key: "tip_deflection_error_timoshenko",
+            },
+            reference_note: "Reference: Timoshenko beam theory (bending plus shear) for the \
+                clamped cantilever (the case computes it).",
+        },
+        Scene {
+            key: "lame",
+            title: "Pressurised ring, 1 kPa (MPS): inner-radius displacement",
+            case: "pressurised-ring-2d",
+            fixed: &["pressure=1000", "damping=30", "end_time=1.5"],
+            resolution_key: "dp",
+            quick: &[0.3, 0.2],
+            full: &[0.2, 0.1, 0.05],
+            lines: vec![line("mps", "mps", &[])],
+            measure: Measure::ClosedForm {
+                num: "inner_displacement_final",
+                den: "inner_displacement_theory",
+            },
+            reference_note: "Reference: Lamé's thick-walled cylinder in plane strain with the \
+                small-strain E and ν of the Mooney–Rivlin law.",
+        },
+    ]
+}
+
+/// One severity sweep of the stability map.
+struct Sweep {
+    key: &'static str,
+    title: &'static str,
+    case: &'static str,
+    methods: &'static [&'static str],
+    fixed: &'static [&'static str],
+    parameter: &'static str,
+    quick: &'static [f64],
+    full: &'static [f64],
+}
+
+fn sweeps() -> Vec<Sweep> {
+    const PLATE: &[&str] = &["tl", "tl-hf", "tl-gm", "ul-og", "ul-oas", "ul-enog"];
+    const TL: &[&str] = &["tl", "tl-hf", "tl-gm"];
+    vec![
+        Sweep {
+            key: "plate-vf",
+            title: "2D plate, initial tip speed v_f (H/dp 10, to 1 s)",
+            case: "oscillating-plate-2d",
+            methods: PLATE,
+            fixed: &["end_time=1.0"],
+            parameter: "vf",
+            quick: &[0.05, 0.15, 0.3],
+            full: &[0.01, 0.05, 0.1, 0.15, 0.2, 0.3],
+        },
+        Sweep {
+            key: "plate-nu",
+            title: "2D plate, Poisson's ratio ν (H/dp 10, v_f 0.05, to 1 s)",
+            case: "oscillating-plate-2d",
+            methods: PLATE,
+            fixed: &["end_time=1.0"],
+            parameter: "nu",
+            quick: &[0.3, 0.49, 0.4999],
+            full: &[0.3, 0.4, 0.45, 0.49, 0.499, 0.4999],
+        },
+        Sweep {
+            key: "plate-cfl",
+            title:
+                "2D plate, TL CFL number of eq 33 (H/dp 10, v_f 0.05, to 1 s; allowed 0 < cfl < 1)",
+            case: "oscillating-plate-2d",
+            methods: TL,
+            fixed: &["end_time=1.0"],
+            parameter: "cfl",
+            quick: &[0.3, 0.9, 1.2],
+            full: &[0.3, 0.6, 0.8, 0.9, 0.99, 1.2],
+        },
+        Sweep {
+            key: "plate-cfl-ul",
+            title: "2D plate, UL acoustic CFL of eq 22 (H/dp 10, v_f 0.05, to 1 s; allowed < 1)",
+            case: "oscillating-plate-2d",
+            methods: &["ul-og", "ul-oas", "ul-enog"],
+            fixed: &["end_time=1.0"],
+            parameter: "ul_cfl_acoustic",
+            quick: &[0.3, 0.9, 1.2],
+            full: &[0.3, 0.4, 0.6, 0.8, 0.99, 1.2],
+        },
+        Sweep {
+            key: "rings-v0",
+            title: "Colliding rings, impact speed v0/c0 (UL: dp 1 mm; MPS: the MPS paper's set-up)",
+            case: "colliding-rings-2d",
+            methods: &["ul-og", "ul-oas", "ul-enog"],
+            fixed: &["v0_unit=c0", "contact=true"],
+            parameter: "v0",
+            quick: &[0.04, 0.1],
+            full: &[0.04, 0.06, 0.08, 0.1, 0.12, 0.14],
+        },
+        Sweep {
+            key: "column-omega",
+            title:
+                "Twisting column, initial angular velocity Ω0 (rad/s; ν 0.49, 10×10×60, to 0.3 s)",
+            case: "twisting-column-3d",
+            methods: TL,
+            fixed: &["nu=0.49", "end_time=0.3"],
+            parameter: "omega0",
+            quick: &[105.0, 400.0],
+            full: &[105.0, 200.0, 300.0, 400.0, 500.0, 600.0],
+        },
+    ]
+}
+
+fn fmt_value(v: f64) -> String {
+    let s = format!("{v}");
+    s.trim_end_matches(".0").to_string()
+}
+
+fn scene_run_id(scene: &Scene, line: &Line, res: f64) -> String {
+    format!(
+        "pareto-{}-{}-{}{}",
+        scene.key,
+        line.label.replace(' ', "-"),
+        scene.resolution_key,
+        fmt_value(res)
+    )
+}
+
+fn scene_set(scene: &Scene, line: &Line, res: f64) -> Vec<String> {
+    scene
+        .fixed
+        .iter()
+        .chain(line.extra)
+        .map(|s| s.to_string())
+        .chain(std::iter::once(format!(
+            "{}={}",
+            scene.resolution_key,
+            fmt_value(res)
+        )))
+        .collect()
+}
+
+fn sweep_run_id(sweep: &Sweep, method: &str, value: f64) -> String {
+    format!("map-{}-{method}-{}", sweep.key, fmt_value(value))
+}
+
+fn sweep_set(sweep: &Sweep, value: f64) -> Vec<String> {
+    sweep
+        .fixed
+        .iter()
+        .map(|s| s.to_string())
+        .chain(std::iter::once(format!(
+            "{}={}",
+            sweep.parameter,
+            fmt_value(value)
+        )))
+        .collect()
+}
+
+/// Makes (or reuses) every run of the selection.
+pub fn run_all(sel: Selection) -> Result<(), String> {
+    let wanted = |key: &str| {
+        sel.only
+            .as_ref()
+            .is_none_or(|o| key.starts_with(o.as_str()))
+    };
+    for scene in scenes().into_iter().filter(|s| wanted(s.key)) {
+        let res = if sel.quick { scene.quick } else { scene.full };
+        for l in &scene.lines {
+            for &r in res {
+                run_or_load(
+                    &scene_run_id(&scene, l, r),
+                    scene.case,
+                    l.method,
+                    &scene_set(&scene, l, r),
+                    sel.force,
+                )?;
+            }
+        }
+    }
+    for sweep in sweeps().into_iter().filter(|s| wanted(s.key)) {
+        let values = if sel.quick { sweep.quick } else { sweep.full };
+        for m in sweep.methods {
+            for &v in values {
+                run_or_load(
+                    &sweep_run_id(&sweep, m, v),
+                    sweep.case,
+                    m,
+                    &sweep_set(&sweep, v),
+                    sel.force,
+                )?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `f∞` of `f(h) = f∞ + C hᵖ` through the three finest points (`points` as (h, f), any order),
+/// with the order `p`; `None` unless the three differences have one sign (monotone) and the
+/// fitted order lies in [0.5, 8].
+pub fn richardson(points: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let mut p: Vec<(f64, f64)> = points
+        .iter()
+        .copied()
+        .filter(|q| q.0.is_finite() && q.1.is_finite())
+        .collect();
+    p.sort_by(|a, b| b.0.total_cmp(&a.0));
+    if p.len() < 3 {
+        return None;
+    }
+    let [(h1, f1), (h2, f2), (h3, f3)] = [p[p.len() - 3], p[p.len() - 2], p[p.len() - 1]];
+    let ratio = (f1 - f2) / (f2 - f3);
+    if !(ratio.is_finite() && ratio > 0.0) {
+        return None;
+    }
+    // (h1ᵖ − h2ᵖ)/(h2ᵖ − h3ᵖ) grows monotonically with p for h1 > h2 > h3: bisect.
+    let g = |q: f64| (h1.powf(q) - h2.powf(q)) / (h2.powf(q) - h3.powf(q)) - ratio;
+    let (mut a, mut b) = (0.5, 8.0);
+    if g(a) > 0.0 || g(b) < 0.0 {
+        return None;
+    }
+    for _ in 0..100 {
+        let m = 0.5 * (a + b);
+        if g(m) > 0.0 {
+            b = m;
+        } else {
+            a = m;
+        }
+    }
+    let q = 0.5 * (a + b);
+    let c = (f2 - f3) / (h2.powf(q) - h3.powf(q));
+    Some((f3 - c * h3.powf(q), q))
+}
+
+/// A point of a Pareto plot.
+#[derive(Clone)]
+struct Point {
+    line: String,
+    res: f64,
+    cpu: f64,
+    wall: f64,
+    work: f64,
+    rss: f64,
+    error: Option<f64>,
+    status: String,
+    command: String,
+}
+
+/// Indices of the points on the Pareto front (no other point is both cheaper and more
+/// accurate).
+fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
+    (0..points.len())
+        .filter(|&i| {
+            let (c, e) = points[i];
+            !points
+                .iter()
+                .enumerate()
+                .any(|(j, &(cj, ej))| j != i && cj <= c && ej <= e && (cj < c || ej < e))
+        })
+        .collect()
+}
+
+/// The value a run is judged by: the measured quantity (extrapolated scenes) or the signed
+/// relative error.
+fn value_of(r: &CostedRun, m: Measure) -> Option<f64> {
+    match m {
+        Measure::Extrapolated { num, .. } => r.num(num),
+        Measure::ClosedForm { num, den } => Some(r.num(num)? / r.num(den)? - 1.0),
+        Measure::Error { key } => r.num(key),
+    }
+}
+
+fn spacing(scene: &Scene, res: f64) -> f64 {
+    if scene.resolution_key == "dp" {
+        res
+    } else {
+        1.0 / res
+    }
+}
+
+/// Writes docs/tradeoffs.md (if any costed run is stored) with its plots in `fig_dir`.
+pub fn report(root: &Path) -> Result<(), String> {
+    if !crate::cost::dir().is_dir() {
+        return Ok(());
+    }
+    let docs = root.join("docs");
+    let fig_dir = docs.join("tradeoffs");
+    std::fs::create_dir_all(&fig_dir).map_err(|e| e.to_string())?;
+    let mut md = String::new();
+    writeln!(md, "# Speed, accuracy and stability: choosing a method\n").unwrap();
+    writeln!(
+        md,
+        "Generated by `cargo run --release -p sph-validation --bin validate -- tradeoff [--quick]` \
+         (runs, stored in `validation/results/tradeoff/`) and `validate report`; do not edit by \
+         hand. Every run is the `sph` command shown in its table row, made with `--threads {} \
+         --no-output`. **Cost** is counted two ways: CPU seconds (user + system) of that process on \
+         the machine that made the run (2 cores; timings taken while other work ran on the \
+         machine are noisier, CPU time less so than wall time), and the machine-independent \
+         work `pair_visits` (neighbour pairs visited by all force evaluations: steps × pairs for \
+         TL and MPS, acoustic sub-steps × pairs for UL). Peak memory is the process's largest \
+         resident set.\n",
+        crate::cost::THREADS
+    )
+    .unwrap();
+    let mut any = false;
+    for scene in scenes() {
+        any |= pareto_section(&mut md, &scene, &fig_dir)?;
+    }
+    writeln!(md, "## Stability at the extremes\n").unwrap();
+    writeln!(
+        md,
+        "Each cell: **ordered** (completed, largest disorder indicator ≤ {DISORDER_LIMIT}), \
+         **disordered** (completed above it), **failed** (the run stopped: time-step collapse, \
+         non-finite state, lost neighbours, inverted particles — the reason is given), or \
+         **rejected** (the value is outside the parameter's allowed range; nothing ran). The \
+         limit {DISORDER_LIMIT} separates the stored validation runs that are visibly ordered \
+         in their pictures (TL-HF's plate at v_f = 0.15: 0.12; UL-ENOG's colliding rings: \
+         0.04–0.06) from those visibly disordered (TL-GM's plate at v_f = 0.15: 0.55; OAS's \
+         rings: 0.31–1.8, zigzag; OG's: 1.6–2.6, broken). The number in a cell is the largest \
+         disorder indicator.\n"
+    )
+    .unwrap();
+    for sweep in sweeps() {
+        any |= sweep_section(&mut md, &sweep, &fig_dir)?;
+    }
+    if !any {
+        return Ok(());
+    }
+    let out = docs.join("tradeoffs.md");
+    let tmp = docs.join("tradeoffs.md.tmp");
+    std::fs::write(&tmp, md).map_err(|e| e.to_string())?;
+    std::fs::rename(&tmp, &out).map_err(|e| e.to_string())?;
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool, String> {
+    // Every stored resolution of either list.
+    let mut res: Vec<f64> = scene.quick.iter().chain(scene.full).copied().collect();
+    res.sort_by(f64::total_cmp);
+    res.dedup();
+    let runs: Vec<(&Line, f64, CostedRun)> = scene
+        .lines
+        .iter()
+        .flat_map(|l| res.iter().map(move |&r| (l, r)))
+        .filter_map(|(l, r)| {
+            let run = crate::cost::load(&scene_run_id(scene, l, r))?;
+            (run.set == scene_set(scene, l, r)).then_some((l, r, run))
+        })
+        .collect();
+    if runs.is_empty() {
+        return Ok(false);
+    }
+    writeln!(md, "## {}\n", scene.title).unwrap();
+    writeln!(md, "{}\n", scene.reference_note).unwrap();
+    // The reference and each line's own limit and order.
+    let series_of = |label: &str| -> Vec<(f64, f64)> {
+        runs.iter()
+            .filter(|(l, _, run)| l.label == label && run.exit_code == 0)
+            .filter_map(|(_, r, run)| Some((spacing(scene, *r), value_of(run, scene.measure)?)))
+            .collect()
+    };
+    let reference = match scene.measure {
+        Measure::Extrapolated { reference_line, .. } => {
+            let fit = richardson(&series_of(reference_line));
+            match fit {
+                Some((f, p)) => writeln!(
+                    md,
+                    "Reference value: {f:.5} ({reference_line}, fitted order {p:.2}).\n"
+                )
+                .unwrap(),
+                None => writeln!(
+                    md,
+                    "No reference yet: {reference_line} needs three resolutions converging \
+                     monotonically.\n"
+                )
+                .unwrap(),
+            }
+            fit.map(|f| f.0)
+        }
+        _ => None,
+    };
+    let error_of = |run: &CostedRun| -> Option<f64> {
+        if run.exit_code != 0 {
+            return None;
+        }
+        let v = value_of(run, scene.measure)?;
+        match scene.measure {
+            Measure::Extrapolated { .. } => Some(v / reference? - 1.0),
+            _ => Some(v),
+        }
+    };
+    let points: Vec<Point> = runs
+        .iter()
+        .map(|(l, r, run)| Point {
+            line: l.label.to_string(),
+            res: *r,
+            cpu: run.cpu_seconds,
+            wall: run.wall_seconds,
+            work: run.work().unwrap_or(f64::NAN),
+            rss: run.max_rss_mib,
+            error: error_of(run),
+            status: run.status(),
+            command: run.command.clone(),
+        })
+        .collect();
+    // Plot: error against CPU seconds, one line per method, the front circled.
+    let usable: Vec<&Point> = points
+        .iter()
+        .filter(|p| p.error.is_some_and(|e| e != 0.0) && p.cpu > 0.0)
+        .collect();
+    let front: Vec<usize> = pareto_front(
+        &usable
+            .iter()
+            .map(|p| (p.cpu, p.error.unwrap().abs()))
+            .collect::<Vec<_>>(),
+    );
+    let mut series: Vec<plot::LabelledSeries> = Vec::new();
+    for l in &scene.lines {
+        let pts: Vec<(f64, f64, String)> = usable
+            .iter()
+            .filter(|p| p.line == l.label)
+            .map(|p| (p.cpu, p.error.unwrap().abs(), fmt_value(p.res)))
+            .collect();
+        if !pts.is_empty() {
+            series.push(plot::LabelledSeries {
+                label: l.label.to_string(),
+                points: pts,
+            });
+        }
+    }
+    let front_pts: Vec<(f64, f64)> = front
+        .iter()
+        .map(|&i| (usable[i].cpu, usable[i].error.unwrap().abs()))
+        .collect();
+    if !series.is_empty() {
+        let png = format!("pareto_{}.png", scene.key);
+        plot::log_log_plot(
+            &fig_dir.join(&png),
+            scene.title,
+            "CPU seconds (2 threads)",
+            "relative error",
+            &series,
+            &front_pts,
+        )?;
+        writeln!(
+            md,
+            "![{}](tradeoffs/{png})\n\nPoints are labelled by {}; circled points form the Pareto \
+             front (no other run is both cheaper and more accurate).\n",
+            scene.key, scene.resolution_key
+        )
+        .unwrap();
+    }
+    // Cheapest run per tolerance, counting a run only if every finer run of its method is
+    // within the tolerance too (an error that crosses zero at a coarse resolution is luck).
+    writeln!(
+        md,
+        "| to reach error ≤ | cheapest run (all finer runs of the method within too) | {} | CPU s | work (pair visits) |\n|---|---|---|---|---|",
+        scene.resolution_key
+    )
+    .unwrap();
+    for tol in [0.01, 0.03, 0.10] {
+        let within = |p: &Point| p.error.is_some_and(|e| e.abs() <= tol);
+        let best = usable
+            .iter()
+            .filter(|p| {
+                within(p)
+                    && points
+                        .iter()
+                        .filter(|q| {
+                            q.line == p.line && spacing(scene, q.res) < spacing(scene, p.res)
+                        })
+                        .all(within)
+            })
+            .min_by(|a, b| a.cpu.total_cmp(&b.cpu));
+        match best {
+            Some(p) => writeln!(
+                md,
+                "| {:.0} % | {} | {} | {:.2} | {:.3e} |",
+                tol * 100.0,
+                p.line,
+                fmt_value(p.res),
+                p.cpu,
+                p.work
+            )
+            .unwrap(),
+            None => writeln!(
+                md,
+                "| {:.0} % | none of the stored runs | | | |",
+                tol * 100.0
+            )
+            .unwrap(),
+        }
+    }
+    writeln!(md).unwrap();
+    // Observed order and own limit per line.
+    writeln!(
+        md,
+        "| method | observed order | own limit (Richardson) | finest error |\n|---|---|---|---|"
+    )
+    .unwrap();
+    for l in &scene.lines {
+        let s = series_of(l.label);
+        if s.is_empty() {
+            continue;
+        }
+        let (order, limit) = match scene.measure {
+            Measure::Extrapolated { .. } => match richardson(&s) {
+                Some((f, p)) => (format!("{p:.2}"), format!("{f:.5}")),
+                None => ("not monotone / < 3 points".into(), "–".into()),
+            },
+            _ => (
+                slope_order(&s).map_or("–".into(), |p| {
+                    if p > 0.0 {
+                        format!("{p:.2}")
+                    } else {
+                        format!("{p:.2} (error grows with resolution)")
+                    }
+                }),
+                "(closed form)".into(),
+            ),
+        };
+        let finest = points
+            .iter()
+            .filter(|p| p.line == l.label && p.error.is_some())
+            .min_by(|a, b| spacing(scene, a.res).total_cmp(&spacing(scene, b.res)))
+            .and_then(|p| p.error)
+            .map_or("–".into(), |e| format!("{:+.2} %", 100.0 * e));
+        writeln!(md, "| {} | {order} | {limit} | {finest} |", l.label).unwrap();
+    }
+    writeln!(md).unwrap();
+    writeln!(
+        md,
+        "<details><summary>Every run ({} runs)</summary>\n\n| method | {} | signed error | CPU s | wall s | \
+         work | peak MiB | status | command |\n|---|---|---|---|---|---|---|---|---|",
+        points.len(),
+        scene.resolution_key
+    )
+    .unwrap();
+    for p in &points {
+        writeln!(
+            md,
+            "| {} | {} | {} | {:.2} | {:.2} | {:.3e} | {:.0} | {} | `{}` |",
+            p.line,
+            fmt_value(p.res),
+            p.error
+                .map_or("–".into(), |e| format!("{:+.3} %", 100.0 * e)),
+            p.cpu,
+            p.wall,
+            p.work,
+            p.rss,
+            short(&p.status),
+            p.command
+        )
+        .unwrap();
+    }
+    writeln!(md, "\n</details>\n").unwrap();
+    Ok(true)
+}
+
+/// Order of convergence as the least-squares slope of log error against log spacing.
+fn slope_order(s: &[(f64, f64)]) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = s
+        .iter()
+        .filter(|p| p.0 > 0.0 && p.1 != 0.0)
+        .map(|p| (p.0.ln(), p.1.abs().ln()))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+fn short(status: &str) -> String {
+    let s: String = status.chars().take(90).collect();
+    s.replace('|', "/")
+}
+
+/// A cell of the stability map.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Outcome {
+    /// Completed, disorder within the limit.
+    Ordered,
+    /// Completed, disorder above the limit.
+    Disordered,
+    /// Stopped during the run.
+    Failed,
+    /// Input refused before the run.
+    Rejected,
+}
+
+/// Classifies a run (see [`DISORDER_LIMIT`]).
+pub fn outcome(run: &CostedRun) -> Outcome {
+    let status = run.status();
+    if status.starts_with("rejected") {
+        Outcome::Rejected
+    } else if status != "completed" {
+        Outcome::Failed
+    } else if run.num("max_disorder").is_some_and(|d| d <= DISORDER_LIMIT) {
+        Outcome::Ordered
+    } else {
+        Outcome::Disordered
+    }
+}
+
+/// The reason a failed run stopped, in a few words.
+fn failure_reason(status: &str) -> &'static str {
+    let s = status.to_lowercase();
+    if s.contains("time step") || s.contains("collapse") {
+        "time-step collapse"
+    } else if s.contains("non-finite") || s.contains("nan") || s.contains("infinite") {
+        "non-finite state"
+    } else if s.contains("neighbour") {
+        "lost neighbours"
+    } else if s.contains("j ≤ 0") || s.contains("invert") || s.contains("j <= 0") {
+        "inverted particles"
+    } else if s.contains("rejected") {
+        "rejected input"
+    } else {
+        "other (see the table)"
+    }
+}
+
+fn sweep_section(md: &mut String, sweep: &Sweep, fig_dir: &Path) -> Result<bool, String> {
+    let mut values: Vec<f64> = sweep.quick.iter().chain(sweep.full).copied().collect();
+    values.sort_by(f64::total_cmp);
+    values.dedup();
+    let mut cells: Vec<(usize, usize, CostedRun)> = Vec::new();
+    for (mi, m) in sweep.methods.iter().enumerate() {
+        for (vi, &v) in values.iter().enumerate() {
+            if let Some(r) = crate::cost::load(&sweep_run_id(sweep, m, v)) {
+                if r.set == sweep_set(sweep, v) {
+                    cells.push((mi, vi, r));
+                }
+            }
+        }
+    }
+    if cells.is_empty() {
+        return Ok(false);
+    }
+    // Only the columns with at least one run.
+    let used: Vec<usize> = (0..values.len())
+        .filter(|&vi| cells.iter().any(|c| c.1 == vi))
+        .collect();
+    writeln!(md, "### {}\n", sweep.title).unwrap();
+    let png = format!("stability_{}.png", sweep.key);
+    let heat: Vec<plot::MapCell> = cells
+        .iter()
+        .map(|(mi, vi, r)| plot::MapCell {
+            row: *mi,
+            col: used.iter().position(|u| u == vi).expect("used column"),
+            class: match outcome(r) {
+                Outcome::Ordered => 0,
+                Outcome::Disordered => 1,
+                Outcome::Failed => 2,
+                Outcome::Rejected => 3,
+            },
+            text: r
+                .num("max_disorder")
+                .map_or("–".into(), |d| format!("{d:.2}")),
+        })
+        .collect();
+    plot::outcome_map(
+        &fig_dir.join(&png),
+        sweep.title,
+        &sweep
+            .methods
+            .iter()
+            .map(|m| m.to_string())
+            .collect::<Vec<_>>(),
+        &used
+            .iter()
+            .map(|&vi| fmt_value(values[vi]))
+            .collect::<Vec<_>>(),
+        sweep.parameter,
+        &heat,
+        &["ordered", "disordered", "failed", "rejected"],
+    )?;
+    writeln!(md, "![{}](tradeoffs/{png})\n", sweep.key).unwrap();
+    write!(md, "| method |").unwrap();
+    for &vi in &used {
+        write!(md, " {} = {} |", sweep.parameter, fmt_value(values[vi])).unwrap();
+    }
+    writeln!(md).unwrap();
+    writeln!(md, "|---|{}", "---|".repeat(used.len())).unwrap();
+    for (mi, m) in sweep.methods.iter().enumerate() {
+        write!(md, "| {m} |").unwrap();
+        for &vi in &used {
+            let cell = cells.iter().find(|c| c.0 == mi && c.1 == vi);
+            let text = match cell {
+                None => "not run".to_string(),
+                Some((_, _, r)) => {
+                    let d = r
+                        .num("max_disorder")
+                        .map_or("–".into(), |d| format!("{d:.2}"));
+                    match outcome(r) {
+                        Outcome::Ordered => format!("ordered ({d})"),
+                        Outcome::Disordered => format!("disordered ({d})"),
+                        Outcome::Failed => format!(
+                            "failed at t = {}: {}",
+                            r.num("time_reached")
+                                .map_or("?".into(), |t| format!("{t:.3}")),
+                            failure_reason(&r.status())
+                        ),
+                        Outcome::Rejected => "rejected".to_string(),
+                    }
+                }
+            };
+            write!(md, " {text} |").unwrap();
+        }
+        writeln!(md).unwrap();
+    }
+    writeln!(md).unwrap();
+    // Where each method stops being usable.
+    for (mi, m) in sweep.methods.iter().enumerate() {
+        let first_bad = used.iter().find_map(|&vi| {
+            let (_, _, r) = cells.iter().find(|c| c.0 == mi && c.1 == vi)?;
+            match outcome(r) {
+                Outcome::Ordered | Outcome::Rejected => None,
+                Outcome::Disordered => Some(format!(
+                    "becomes disordered at {} = {} (max disorder {:.2})",
+                    sweep.parameter,
+                    fmt_value(values[vi]),
+                    r.num("max_disorder").unwrap_or(f64::NAN)
+                )),
+                Outcome::Failed => Some(format!(
+                    "fails at {} = {} ({})",
+                    sweep.parameter,
+                    fmt_value(values[vi]),
+                    failure_reason(&r.status())
+                )),
+            }
+        });
+        match first_bad {
+            Some(s) => writeln!(md, "- **{m}** {s}.").unwrap(),
+            None => writeln!(md, "- **{m}** stays ordered over the values run.").unwrap(),
+        }
+    }
+    writeln!(
+        md,
+        "\n<details><summary>Commands</summary>\n\n{}\n</details>\n",
+        cells
+            .iter()
+            .map(|(_, _, r)| format!("- `{}` — {}", r.command, short(&r.status())))
+            .collect::<Vec<_>>()
+            .join("\n")
+    )
+    .unwrap();
+    Ok(true)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn richardson_recovers_a_known_limit_and_order() {
+        let f = |h: f64| 0.27 + 0.3 * h.powf(1.7);
+        let pts: Vec<(f64, f64)> = [0.2, 0.1, 0.05, 0.025].iter().map(|&h| (h, f(h))).collect();
+        let (lim, p) = richardson(&pts).unwrap();
+        assert!((lim - 0.27).abs() < 1e-9, "{lim}");
+        assert!((p - 1.7).abs() < 1e-6, "{p}");
+        // Non-monotone data have no extrapolation.
+        assert!(richardson(&[(0.2, 1.0), (0.1, 0.5), (0.05, 0.8)]).is_none());
+    }
+
+    #[test]
+    fn pareto_front_keeps_only_undominated_points() {
+        let pts = [(1.0, 0.1), (2.0, 0.05), (3.0, 0.08), (0.5, 0.2), (2.0, 0.2)];
+        assert_eq!(pareto_front(&pts), vec![0, 1, 3]);
+    }
+
+    #[test]
+    fn slope_order_of_a_power_law() {
+        let s: Vec<(f64, f64)> = [0.1, 0.05, 0.025]
+            .iter()
+            .map(|&h| (h, 2.0 * h * h))
+            .collect();
+        assert!((slope_order(&s).unwrap() - 2.0).abs() < 1e-12);
+    }
+}
