@@ -100,23 +100,43 @@ pub fn p99_value(frames: &[Frame]) -> f64 {
     v[(v.len() - 1) * 99 / 100].max(f64::MIN_POSITIVE)
 }
 
-/// Stress roughness of colliding rings (see [`roughness`]) at every snapshot, near the
-/// collision point (|x| < 0.01, |y| < 0.02: the rings touch at x = 0) and on the far sides
-/// (|x| > 0.07), divided by the largest 99th-percentile von Mises stress of the run (so the
-/// stress-free rings before contact do not count as rough): `{time, near, far, scale}`.
+/// Stress roughness of colliding rings (see [`roughness`]) at every snapshot, in two windows
+/// that move with the rings (the rings meet at x = 0, the left ring is x < 0, the right one
+/// x ≥ 0): *near* the collision point — within 0.01 m of each ring's facing extreme (largest x
+/// of the left ring, smallest of the right one) and |y| < 0.02 m — and on the *far* sides —
+/// more than 0.025 m beyond each ring's centre (mean x) on its outer side. Divided by the
+/// largest 99th-percentile von Mises stress of the run (so the stress-free rings before
+/// contact do not count as rough): `{time, near, far, scale, windows: "moving"}`; a window
+/// without particles gives `null`.
 pub fn rings_roughness(c: &FileContents, dp: f64) -> Map<String, Value> {
     let frames: Vec<Frame> = c
         .snapshots
         .iter()
         .filter_map(|s| frame_at(c, s.time, ""))
         .collect();
-    roughness_map(
-        c,
-        &frames,
-        dp,
-        &|x, y| x.abs() < 0.01 && y.abs() < 0.02,
-        &|x, _| x.abs() > 0.07,
-    )
+    let scale = roughness_scale(&frames);
+    let mut near = Vec::new();
+    let mut far = Vec::new();
+    for f in &frames {
+        let w = RingWindows::of(f);
+        near.push(roughness(f, dp, |x, y| w.near(x, y)).map(|r| r / scale));
+        far.push(roughness(f, dp, |x, y| w.far(x, y)).map(|r| r / scale));
+    }
+    let t: Vec<f64> = c.snapshots.iter().map(|s| s.time).collect();
+    let mut m = Map::new();
+    m.insert(
+        "roughness".into(),
+        json!({ "time": t, "near": near, "far": far, "scale": scale, "windows": "moving" }),
+    );
+    m
+}
+
+/// The largest 99th-percentile von Mises stress over the frames (the roughness scale).
+fn roughness_scale(frames: &[Frame]) -> f64 {
+    frames
+        .iter()
+        .map(|f| p99_value(std::slice::from_ref(f)))
+        .fold(f64::MIN_POSITIVE, f64::max)
 }
 
 /// Stress roughness (see [`roughness`]) of every frame (one per snapshot) in the regions
@@ -129,18 +149,14 @@ pub fn roughness_map(
     near: &dyn Fn(f64, f64) -> bool,
     far: &dyn Fn(f64, f64) -> bool,
 ) -> Map<String, Value> {
-    let scale = frames
-        .iter()
-        .map(|f| p99_value(std::slice::from_ref(f)))
-        .fold(f64::MIN_POSITIVE, f64::max);
+    let scale = roughness_scale(frames);
     let series = |region: &dyn Fn(f64, f64) -> bool| -> Vec<Option<f64>> {
         frames
             .iter()
             .map(|f| roughness(f, dp, region).map(|r| r / scale))
             .collect()
     };
-    let near = series(near);
-    let far = series(far);
+    let (near, far) = (series(near), series(far));
     let t: Vec<f64> = c.snapshots.iter().map(|s| s.time).collect();
     let mut m = Map::new();
     m.insert(
@@ -148,6 +164,71 @@ pub fn roughness_map(
         json!({ "time": t, "near": near, "far": far, "scale": scale }),
     );
     m
+}
+
+/// The windows of [`rings_roughness`] for one frame.
+struct RingWindows {
+    /// Centre (mean x) and facing extreme of the left ring.
+    left: (f64, f64),
+    /// Centre (mean x) and facing extreme of the right ring.
+    right: (f64, f64),
+}
+
+impl RingWindows {
+    fn of(f: &Frame) -> Self {
+        let ring = |left: bool| {
+            let xs: Vec<f64> = f
+                .points
+                .iter()
+                .map(|p| p.0)
+                .filter(|&x| (x < 0.0) == left)
+                .collect();
+            let mean = xs.iter().sum::<f64>() / xs.len().max(1) as f64;
+            let facing = if left {
+                xs.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            } else {
+                xs.iter().copied().fold(f64::INFINITY, f64::min)
+            };
+            (mean, facing)
+        };
+        Self {
+            left: ring(true),
+            right: ring(false),
+        }
+    }
+
+    fn near(&self, x: f64, y: f64) -> bool {
+        y.abs() < 0.02
+            && if x < 0.0 {
+                x > self.left.1 - 0.01
+            } else {
+                x < self.right.1 + 0.01
+            }
+    }
+
+    fn far(&self, x: f64, _y: f64) -> bool {
+        if x < 0.0 {
+            x < self.left.0 - 0.025
+        } else {
+            x > self.right.0 + 0.025
+        }
+    }
+}
+
+/// Whether a stored rings run measured its roughness in the moving windows of
+/// [`rings_roughness`] (earlier runs used fixed lab-frame windows).
+pub fn has_moving_windows(r: &crate::store::StoredRun) -> bool {
+    r.summary
+        .get("snapshots")
+        .and_then(|s| s.get("roughness"))
+        .and_then(|g| g.get("windows"))
+        .and_then(Value::as_str)
+        == Some("moving")
+}
+
+/// The largest value of a roughness series, `None` when every entry is empty.
+pub fn peak(v: &[Option<f64>]) -> Option<f64> {
+    v.iter().flatten().copied().reduce(f64::max)
 }
 
 /// The stored `{time, near, far}` roughness series of a rings run (see [`rings_roughness`]).

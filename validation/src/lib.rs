@@ -1,14 +1,18 @@
 //! Validation runs: each runs cases through `sph-cases`, stores its figures as JSON under
 //! `validation/results/` (so the report can be regenerated, and long runs spread over several
-//! sittings), and `report` turns the stored results into `docs/validation.md` with PNG plots.
+//! sittings) and keeps its HDF5 file under `target/validation-results/`, and `report` turns the
+//! stored results into `docs/validation.md` with PNG plots and
+//! `target/validation-results/validation.h5` with the same tables and the plotted curves.
 #![deny(missing_docs)]
 
 pub mod cost;
 pub mod extreme;
 pub mod frames;
+pub mod h5report;
 pub mod hertz;
 pub mod impacts;
 pub mod mps;
+pub mod mps_stab;
 pub mod plot;
 pub mod store;
 pub mod tl;

@@ -15,7 +15,30 @@ fn register_font() {
     });
 }
 
+/// A line plot as drawn: its file name and the curves (for `validation.h5`).
+#[derive(Clone, Debug)]
+pub struct PlotRecord {
+    /// The PNG's file name (`tl_period_convergence.png`).
+    pub file: String,
+    /// Title.
+    pub title: String,
+    /// Axis labels.
+    pub x_label: String,
+    /// Axis labels.
+    pub y_label: String,
+    /// The curves: label and points.
+    pub series: Vec<(String, Vec<(f64, f64)>)>,
+}
+
+static RECORDED: std::sync::Mutex<Vec<PlotRecord>> = std::sync::Mutex::new(Vec::new());
+
+/// The line plots drawn since the last call (in drawing order), for the report's HDF5 file.
+pub fn take_recorded() -> Vec<PlotRecord> {
+    std::mem::take(&mut *RECORDED.lock().unwrap_or_else(|e| e.into_inner()))
+}
+
 /// One named series.
+#[derive(Clone)]
 pub struct Series {
     /// Legend label.
     pub label: String,
@@ -25,7 +48,8 @@ pub struct Series {
     pub markers: bool,
 }
 
-/// Writes a line plot of `series` to `path` (800 × 500 PNG).
+/// Writes a line plot of `series` to `path` (800 × 500 PNG), and records its curves
+/// ([`take_recorded`]).
 pub fn line_plot(
     path: &Path,
     title: &str,
@@ -33,6 +57,22 @@ pub fn line_plot(
     y_label: &str,
     series: &[Series],
 ) -> Result<(), String> {
+    RECORDED
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(PlotRecord {
+            file: path
+                .file_name()
+                .map(|f| f.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series: series
+                .iter()
+                .map(|s| (s.label.clone(), s.points.clone()))
+                .collect(),
+        });
     register_font();
     let pts = series
         .iter()

@@ -1,9 +1,12 @@
-//! Stored results of validation runs: one JSON file per run under `validation/results/`.
+//! Stored results of validation runs: one small JSON file per run under `validation/results/`
+//! (committed: the report is regenerated from them), and the run's full HDF5 file (snapshots,
+//! probes, series, summary) under `target/validation-results/<id>/` (outside git), next to a
+//! `command.txt` holding the `sph run` command that recreates it.
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use sph_cases::{find_case, resolve_method, CaseError, RunOptions};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// One validation run's stored figures.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -27,6 +30,10 @@ pub struct StoredRun {
     /// array per column).
     #[serde(default)]
     pub series: Map<String, Value>,
+    /// The run's HDF5 file relative to the workspace root (`None` for runs stored before the
+    /// files were kept).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub results_file: Option<String>,
 }
 
 impl StoredRun {
@@ -118,6 +125,33 @@ pub fn results_dir() -> PathBuf {
     crate::workspace_root().join("validation").join("results")
 }
 
+static PLAN_ONLY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Plan instead of run: [`run_or_load_then`] prints `id`, a tab and the command of each run
+/// that is neither stored nor adoptable, and returns it unrun (empty summary). For starting
+/// long runs from the shell (`sh -c "$command"`, with the command written to
+/// `<run_dir>/command.txt` so that a later `validate` adopts the file).
+pub fn set_plan_only(plan: bool) {
+    PLAN_ONLY.store(plan, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// The kept HDF5 results, relative to the workspace root (outside git: under `target/`).
+pub const RESULTS_FILES_DIR: &str = "target/validation-results";
+
+/// Where run `id` keeps its HDF5 file: the directory `sph run --out` is given.
+pub fn run_dir(id: &str) -> PathBuf {
+    crate::workspace_root().join(RESULTS_FILES_DIR).join(id)
+}
+
+/// The `sph run` command that makes run `id` (its results file included).
+pub fn command_for(id: &str, case: &str, method: &str, set: &[String]) -> String {
+    let sets: String = set.iter().map(|s| format!(" --set {s}")).collect();
+    format!(
+        "cargo run --release -p sph-cases --bin sph -- run {case} --method {method}{sets} \
+         --out {RESULTS_FILES_DIR}/{id}"
+    )
+}
+
 /// The stored run `id`, if present.
 pub fn load(id: &str) -> Option<StoredRun> {
     let text = std::fs::read_to_string(results_dir().join(format!("{id}.json"))).ok()?;
@@ -125,7 +159,8 @@ pub fn load(id: &str) -> Option<StoredRun> {
 }
 
 /// Runs `case` with `method` and `set` unless `id` is stored already (or `force`), stores and
-/// returns it. Runs write their HDF5 file to `target/validation/` (read back for the probes).
+/// returns it. Runs write their HDF5 file under [`run_dir`] (read back for the probes, and
+/// kept).
 pub fn run_or_load(
     id: &str,
     case: &str,
@@ -142,8 +177,9 @@ pub type AfterRun<'a> =
     dyn Fn(&sph_output::FileContents) -> Result<Map<String, Value>, String> + 'a;
 
 /// [`run_or_load`], and when the run is actually made, `after` reads its results file (the
-/// snapshots) before it is deleted — for pictures, which are written next to the report, and
-/// figures measured on the snapshots, which are stored in the summary under `snapshots`.
+/// snapshots) — for pictures, which are written next to the report, and figures measured on
+/// the snapshots, which are stored in the summary under `snapshots`. The file is kept under
+/// [`run_dir`] with the command that recreates it (`command.txt`).
 pub fn run_or_load_then(
     id: &str,
     case: &str,
@@ -165,19 +201,45 @@ pub fn run_or_load_then(
     for a in set {
         params.apply_assignment(a)?;
     }
-    let out = crate::workspace_root()
-        .join("target")
-        .join("validation")
-        .join(id);
-    let options = RunOptions {
-        output: Some(out),
-        ..Default::default()
+    // The same file `sph run … --out <run_dir>` writes.
+    let dir = run_dir(id);
+    let out = dir.join(format!("{case}-{method}"));
+    let command = command_for(id, case, method, set);
+    let (file, mut summary) = match adoptable(&dir, &out, &command) {
+        // A finished run made with exactly this command (e.g. a long run started from the
+        // shell): read it instead of running again.
+        Some((file, summary)) => {
+            eprintln!("adopting {id} from {}", file.display());
+            (Some(file), summary)
+        }
+        None if PLAN_ONLY.load(std::sync::atomic::Ordering::Relaxed) => {
+            println!("{id}\t{command}");
+            return Ok(StoredRun {
+                id: id.into(),
+                case: case.into(),
+                method: method.into(),
+                set: set.to_vec(),
+                command,
+                summary: Map::new(),
+                probes: Map::new(),
+                series: Map::new(),
+                results_file: None,
+            });
+        }
+        None => {
+            let options = RunOptions {
+                output: Some(out),
+                ..Default::default()
+            };
+            eprintln!("running {id}: {case} --method {method} {}", set.join(" "));
+            let (record, summary) = c.run(method, &params, &options)?;
+            (record.file, summary)
+        }
     };
-    eprintln!("running {id}: {case} --method {method} {}", set.join(" "));
-    let (record, mut summary) = c.run(method, &params, &options)?;
     let mut probes = Map::new();
     let mut series = Map::new();
-    if let Some(file) = &record.file {
+    let mut results_file = None;
+    if let Some(file) = &file {
         let contents = sph_output::read_file(file)?;
         let extra = after(&contents).map_err(CaseError::Config)?;
         if !extra.is_empty() {
@@ -221,21 +283,26 @@ pub fn run_or_load_then(
             }
             series.insert(name, Value::Object(out));
         }
-        let _ = std::fs::remove_file(file);
-        let _ = std::fs::remove_file(sph_output::xmf_path(&file.with_extension("")));
+        let io = |e: std::io::Error| CaseError::Io {
+            path: dir.display().to_string(),
+            source: e,
+        };
+        std::fs::write(dir.join("command.txt"), format!("{command}\n")).map_err(io)?;
+        results_file = file
+            .strip_prefix(crate::workspace_root())
+            .ok()
+            .map(|p| p.display().to_string());
     }
-    let sets: String = set.iter().map(|s| format!(" --set {s}")).collect();
     let run = StoredRun {
         id: id.into(),
         case: case.into(),
         method: method.into(),
         set: set.to_vec(),
-        command: format!(
-            "cargo run --release -p sph-cases --bin sph -- run {case} --method {method}{sets}"
-        ),
+        command,
         summary,
         probes,
         series,
+        results_file,
     };
     std::fs::create_dir_all(results_dir()).map_err(|e| CaseError::Io {
         path: results_dir().display().to_string(),
@@ -249,6 +316,18 @@ pub fn run_or_load_then(
         }
     })?;
     Ok(run)
+}
+
+/// The finished results file of `out` and its summary, if `dir/command.txt` records exactly
+/// `command` (the file was made by it) and the run ended (its summary has a status).
+fn adoptable(dir: &Path, out: &Path, command: &str) -> Option<(PathBuf, Map<String, Value>)> {
+    let recorded = std::fs::read_to_string(dir.join("command.txt")).ok()?;
+    if recorded.trim() != command {
+        return None;
+    }
+    let file = sph_output::h5_path(out);
+    let summary = sph_output::read_file(&file).ok()?.summary;
+    summary.contains_key("status").then_some((file, summary))
 }
 
 /// A number with `digits` decimals, or `–` when absent.
@@ -272,4 +351,100 @@ pub fn status(r: &StoredRun) -> &str {
 /// `a/b − 1` when both are present.
 pub fn rel(a: Option<f64>, b: Option<f64>) -> Option<f64> {
     a.zip(b).map(|(a, b)| a / b - 1.0)
+}
+
+/// The cost of a run not made: its dry-run estimate (`sph run … --dry-run`: the scene is
+/// built and checked, nothing is run) and the wall time it would take at the particle-step
+/// rates the stored runs `like` reached on this machine (their `particle_steps_per_second`,
+/// slowest and fastest). Returns e.g. "21,952 particles × 1.24·10⁵ steps = 2.7·10⁹
+/// particle-steps, 6–16 min at the 2.8–7.7·10⁶ particle-steps/s of 3 stored runs", or `None`
+/// when the case rejects the set or no stored run gives a rate.
+pub fn cost_estimate(case: &str, method: &str, set: &[String], like: &[String]) -> Option<String> {
+    let c = find_case(case).ok()?;
+    let method = resolve_method(c, Some(method)).ok()?;
+    let mut params = c.params_for(method);
+    for a in set {
+        params.apply_assignment(a).ok()?;
+    }
+    let options = RunOptions {
+        dry_run: true,
+        ..Default::default()
+    };
+    let (_, summary) = c.run(method, &params, &options).ok()?;
+    let particles = summary.get("particles")?.as_f64()?;
+    let steps = summary.get("steps_estimate")?.as_f64()?;
+    let rates: Vec<f64> = like
+        .iter()
+        .filter_map(|id| load(id)?.num("particle_steps_per_second"))
+        .collect();
+    let lo = rates.iter().copied().reduce(f64::min)?;
+    let hi = rates.iter().copied().reduce(f64::max)?;
+    let work = particles * steps;
+    let minutes = |rate: f64| work / rate / 60.0;
+    let at = if rates.len() == 1 {
+        format!(
+            "{} min of wall time at the {} particle-steps/s of the stored run",
+            minutes(lo).round(),
+            sci(lo)
+        )
+    } else {
+        format!(
+            "{}–{} min of wall time at the {}–{} particle-steps/s of {} stored runs",
+            minutes(hi).round(),
+            minutes(lo).round(),
+            sci(lo),
+            sci(hi),
+            rates.len()
+        )
+    };
+    Some(format!(
+        "{} particles × {} steps = {} particle-steps, {at}",
+        thousands(particles),
+        sci(steps),
+        sci(work),
+    ))
+}
+
+/// `12572` → `12,572`.
+fn thousands(x: f64) -> String {
+    let s = format!("{:.0}", x);
+    let mut out = String::new();
+    for (i, ch) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(ch);
+    }
+    out
+}
+
+/// `2.7e9` → `2.7·10⁹`.
+fn sci(x: f64) -> String {
+    let e = x.abs().log10().floor() as i32;
+    let m = x / 10f64.powi(e);
+    let sup: String =
+        e.to_string()
+            .chars()
+            .map(|c| match c {
+                '-' => '⁻',
+                d => ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹']
+                    [d.to_digit(10).unwrap() as usize],
+            })
+            .collect();
+    format!("{m:.2}·10{sup}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{sci, thousands};
+
+    #[test]
+    fn numbers_print_readably() {
+        assert_eq!(thousands(12572.0), "12,572");
+        assert_eq!(thousands(200000.0), "200,000");
+        assert_eq!(thousands(830.0), "830");
+        assert_eq!(sci(2.73e9), "2.73·10⁹");
+        assert_eq!(sci(115706.0), "1.16·10⁵");
+        assert_eq!(sci(3.5e-6), "3.50·10⁻⁶");
+    }
 }

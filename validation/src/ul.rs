@@ -2,9 +2,12 @@
 //! series, the long run with the disorder indicator (ENOG vs OAS), the simply supported 3D plate
 //! against Table 3, and the colliding rings (OG / OAS / ENOG) with particle pictures.
 
-use crate::frames::{frame_at, rings_roughness, roughness_series};
+use crate::frames::{frame_at, has_moving_windows, peak, rings_roughness, roughness_series};
 use crate::plot::{line_plot, particle_frames, Frame, Series};
-use crate::store::{fmt_opt, load, pct, rel, run_or_load, run_or_load_then, status, StoredRun};
+use crate::store::{
+    command_for, cost_estimate, fmt_opt, load, pct, rel, run_or_load, run_or_load_then, status,
+    StoredRun,
+};
 use sph_cases::CaseError;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -37,16 +40,35 @@ const RING_FRAMES: [f64; 4] = [0.002, 0.005, 0.008, 0.012];
 /// Colour scale of the ring pictures (von Mises, Pa): ≈ ρ c0 v0 at 0.06 c0.
 const RING_VMAX: f64 = 1.0e6;
 
-fn plate_id(method: &str, res: u32, vf: f64) -> String {
-    format!("ul-plate-{method}-r{res}-vf{vf}")
+/// A UL plate run (`clamp` key: `frame` is the default and the papers' set-up; runs made before
+/// the key existed used `solid` and keep their ids): `oas_b` = OAS with the B-corrected velocity gradient (eq 26).
+fn plate_id(method: &str, res: u32, vf: f64, clamp: &str) -> String {
+    let base = format!("ul-plate-{method}-r{res}-vf{vf}");
+    if clamp == "solid" {
+        base
+    } else {
+        format!("{base}-{clamp}")
+    }
 }
 
-fn plate_set(res: u32, vf: f64) -> Vec<String> {
+fn plate_set(res: u32, vf: f64, clamp: &str) -> Vec<String> {
     vec![
         format!("resolution={res}"),
         format!("vf={vf}"),
         format!("end_time={PLATE_END}"),
+        format!("clamp={clamp}"),
     ]
+}
+
+/// Table 1's OAS column with the B-corrected velocity gradient (eq 26), frame clamp.
+fn oas_corrected_id(res: u32, vf: f64) -> String {
+    format!("ul-plate-ul-oas-b-r{res}-vf{vf}-frame")
+}
+
+fn oas_corrected_set(res: u32, vf: f64) -> Vec<String> {
+    let mut set = plate_set(res, vf, "frame");
+    set.push("ul_corrected_gradient=true".into());
+    set
 }
 
 fn oas_b_id(corrected: bool) -> String {
@@ -54,9 +76,11 @@ fn oas_b_id(corrected: bool) -> String {
 }
 
 fn oas_b_set(corrected: bool) -> Vec<String> {
-    let mut set = plate_set(10, 0.05);
+    let mut set = plate_set(10, 0.05, "solid");
     set[2] = "end_time=0.7".into();
+    set.pop();
     set.push(format!("ul_corrected_gradient={corrected}"));
+    set.push("clamp=solid".into());
     set
 }
 
@@ -120,6 +144,8 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
     for v in RING_SPEEDS {
         for method in UL_METHODS {
             let png = figures_dir().join(format!("ul_rings_{method}_v{v}.png"));
+            // Runs stored with the earlier fixed-window roughness are made again.
+            let stale = load(&rings_id(method, v)).is_some_and(|r| !has_moving_windows(&r));
             run_or_load_then(
                 &rings_id(method, v),
                 "colliding-rings-2d",
@@ -131,7 +157,7 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
                     // Stated so that runs stored before the budget existed are re-run.
                     "energy_budget=true".into(),
                 ],
-                f,
+                f || stale,
                 &|c| {
                     let frames: Vec<Frame> = RING_FRAMES
                         .iter()
@@ -151,33 +177,50 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
         }
     }
     let case2d = "oscillating-plate-2d";
-    for method in ["ul-enog", "ul-oas"] {
-        for (vf, _, _) in TABLE1 {
-            run_or_load(
-                &plate_id(method, 30, vf),
-                case2d,
-                method,
-                &plate_set(30, vf),
-                f,
-            )?;
-        }
+    // Table 1 with the papers' (frame) clamp: ENOG, and OAS with the B-corrected gradient.
+    for (vf, _, _) in TABLE1 {
+        run_or_load(
+            &plate_id("ul-enog", 30, vf, "frame"),
+            case2d,
+            "ul-enog",
+            &plate_set(30, vf, "frame"),
+            f,
+        )?;
     }
-    // OAS with and without the correction matrix in the velocity gradient (eq 26 vs eq 14).
+    for (vf, _, _) in TABLE1 {
+        run_or_load(
+            &oas_corrected_id(30, vf),
+            case2d,
+            "ul-oas",
+            &oas_corrected_set(30, vf),
+            f,
+        )?;
+    }
+    // OAS as printed (no B) with the frame clamp, to separate B from the clamp.
+    run_or_load(
+        &plate_id("ul-oas", 30, 0.05, "frame"),
+        case2d,
+        "ul-oas",
+        &plate_set(30, 0.05, "frame"),
+        f,
+    )?;
+    for res in CONVERGENCE_RES {
+        run_or_load(
+            &plate_id("ul-enog", res, 0.05, "frame"),
+            case2d,
+            "ul-enog",
+            &plate_set(res, 0.05, "frame"),
+            f,
+        )?;
+    }
+    // OAS with and without the correction matrix in the velocity gradient (eq 26 vs eq 14),
+    // H/dp = 10, solid clamp (the earlier check).
     for corrected in [false, true] {
         run_or_load(
             &oas_b_id(corrected),
             case2d,
             "ul-oas",
             &oas_b_set(corrected),
-            f,
-        )?;
-    }
-    for res in CONVERGENCE_RES {
-        run_or_load(
-            &plate_id("ul-enog", res, 0.05),
-            case2d,
-            "ul-enog",
-            &plate_set(res, 0.05),
             f,
         )?;
     }
@@ -191,6 +234,9 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
             // frozen-data run is kept: its table row shows the older energy change).
             set.push("energy_budget=true".into());
         }
+        // Made with the solid clamp (before the clamp key); the long run's question is the
+        // zigzag, which the clamp does not change.
+        set.push("clamp=solid".into());
         run_or_load_then(&long_id(method, frozen), case2d, method, &set, f, &|c| {
             let last = c.snapshots.last().map_or(0.0, |s| s.time);
             let frame = frame_at(c, last, method).ok_or("no snapshot")?;
@@ -234,12 +280,9 @@ fn period(r: &Option<StoredRun>) -> Option<f64> {
 
 /// Particle-steps per second of a stored run, in millions (`2.41e6`), or `–`.
 fn rate(r: &Option<StoredRun>) -> String {
-    fmt_opt(
-        r.as_ref()
-            .and_then(|r| r.num("particle_steps_per_second"))
-            .map(|x| x / 1e6),
-        2,
-    ) + "e6"
+    r.as_ref()
+        .and_then(|r| r.num("particle_steps_per_second"))
+        .map_or("–".into(), |x| format!("{:.2}e6", x / 1e6))
 }
 
 /// The energy-budget residual at the end with the estimates / with the exact works, or the
@@ -284,83 +327,153 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
     writeln!(md, "## UL: 2D oscillating plate (UL paper §6.1, Table 1)\n").unwrap();
     writeln!(
         md,
-        "Plate L = 0.2 m, H = 0.02 m (the TL scene: 0.06 m of strip inside a fixed base, 4 layers \
-         above and below), E = 2 MPa, ν = 0.3975, ρ = 1000, h = 1.3 dp, dual-criteria stepping \
-         (kernel data refreshed every acoustic sub-step), \
-         Riemann solver as SPHinXsys's tests (β = 1, no pressure jump in the continuity \
-         equation; see the issue notes). The first period of the tip mid-point (t ≤ {PLATE_END} s, \
-         two downward crossings). Target: within 3 % of the paper's periods.\n"
+        "Plate L = 0.2 m, H = 0.02 m (the TL scene: 0.06 m of strip inside a base with 4 layers \
+         above, below and behind it), E = 2 MPa, ν = 0.3975, ρ = 1000, h = 1.3 dp, H/dp = 30, \
+         dual-criteria stepping (kernel data refreshed every acoustic sub-step), Riemann solver \
+         as SPHinXsys's tests (β = 1, no pressure jump in the continuity equation; see \
+         docs/methods.md). The first period of the tip mid-point (t ≤ {PLATE_END} s, two \
+         downward crossings). `frame` is the papers' clamp (the base's layers fixed, the \
+         embedded strip free between them; the default, see the TL clamp section), `solid` the \
+         earlier runs that fix the whole base. OAS (B): the velocity gradient with the \
+         correction matrix (eq 26, key `ul_corrected_gradient`), which the notes of the earlier \
+         runs suspected the paper used; OAS (eq 14): as printed, without B. **Target: within \
+         1 % of the paper's periods.**\n"
     )
     .unwrap();
     writeln!(
         md,
-        "| v_f | paper ENOG | ENOG | vs paper | paper OAS | OAS | vs paper | thin plate |"
+        "| v_f | paper ENOG | ENOG frame | vs paper | ENOG solid | vs paper | paper OAS | OAS (B) frame | vs paper | OAS (eq 14) solid | vs paper | thin plate |"
     )
     .unwrap();
-    writeln!(md, "|---|---|---|---|---|---|---|---|").unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|").unwrap();
+    let cell = |r: &Option<StoredRun>| match period(r) {
+        Some(t) => format!("{t:.4}"),
+        None => state(r),
+    };
     for (vf, p_enog, p_oas) in TABLE1 {
-        let e = load(&plate_id("ul-enog", 30, vf));
-        let o = load(&plate_id("ul-oas", 30, vf));
-        let cell = |r: &Option<StoredRun>| match period(r) {
-            Some(t) => format!("{t:.4}"),
-            None => state(r),
-        };
+        let ef = load(&plate_id("ul-enog", 30, vf, "frame"));
+        let es = load(&plate_id("ul-enog", 30, vf, "solid"));
+        let ob = load(&oas_corrected_id(30, vf));
+        let os = load(&plate_id("ul-oas", 30, vf, "solid"));
         writeln!(
             md,
-            "| {vf} | {p_enog} | {} | {} | {p_oas} | {} | {} | {TABLE1_THEORY} |",
-            cell(&e),
-            pct(rel(period(&e), Some(p_enog))),
-            cell(&o),
-            pct(rel(period(&o), Some(p_oas))),
+            "| {vf} | {p_enog} | {} | {} | {} | {} | {p_oas} | {} | {} | {} | {} | {TABLE1_THEORY} |",
+            cell(&ef),
+            pct(rel(period(&ef), Some(p_enog))),
+            cell(&es),
+            pct(rel(period(&es), Some(p_enog))),
+            cell(&ob),
+            pct(rel(period(&ob), Some(p_oas))),
+            cell(&os),
+            pct(rel(period(&os), Some(p_oas))),
         )
         .unwrap();
     }
     writeln!(md).unwrap();
-
+    let missing: Vec<String> = TABLE1
+        .iter()
+        .flat_map(|&(vf, _, _)| {
+            [
+                (
+                    plate_id("ul-enog", 30, vf, "frame"),
+                    format!("ENOG v_f = {vf}"),
+                ),
+                (oas_corrected_id(30, vf), format!("OAS (B) v_f = {vf}")),
+            ]
+        })
+        .filter(|(id, _)| load(id).is_none())
+        .map(|(_, what)| what)
+        .collect();
+    if !missing.is_empty() {
+        let like: Vec<String> = TABLE1
+            .iter()
+            .flat_map(|&(vf, _, _)| {
+                [
+                    plate_id("ul-enog", 30, vf, "frame"),
+                    plate_id("ul-enog", 30, vf, "solid"),
+                    plate_id("ul-oas", 30, vf, "solid"),
+                ]
+            })
+            .collect();
+        let cost = cost_estimate(
+            "oscillating-plate-2d",
+            "ul-enog",
+            &plate_set(30, 0.01, "frame"),
+            &like,
+        )
+        .unwrap_or_else(|| "no estimate".into());
+        writeln!(
+            md,
+            "Not run with the frame clamp yet: {}. `validate ul` makes them; one run (ENOG, \
+             v_f = 0.01, `sph run … --dry-run`): {cost}.\n",
+            missing.join(", ")
+        )
+        .unwrap();
+    }
+    let disorder =
+        |r: &Option<StoredRun>| fmt_opt(r.as_ref().and_then(|r| r.num("max_disorder")), 3);
+    let (of, ob) = (
+        load(&plate_id("ul-oas", 30, 0.05, "frame")),
+        load(&oas_corrected_id(30, 0.05)),
+    );
+    if of.is_some() || ob.is_some() {
+        writeln!(
+            md,
+            "B and the clamp separated (OAS, v_f = 0.05, H/dp = 30, frame clamp): eq 14 without \
+             B gives T = {} s (max disorder {}), with B T = {} s (max disorder {}).\n",
+            fmt_opt(period(&of), 4),
+            disorder(&of),
+            fmt_opt(period(&ob), 4),
+            disorder(&ob),
+        )
+        .unwrap();
+    }
     let (b0, b1) = (load(&oas_b_id(false)), load(&oas_b_id(true)));
     if b0.is_some() || b1.is_some() {
         writeln!(
             md,
-            "OAS here uses the velocity gradient of eq 14 as printed (no correction matrix; the \
-             energy-consistent form). With B (eq 26, key `ul_corrected_gradient`) the OAS plate \
-             is stiffer and more ordered — H/dp = 10, v_f = 0.05, t ≤ 0.7 s: T = {} s and max \
-             disorder {} with B against T = {} s and {} without — so the paper's OAS periods \
-             (0.273–0.278) were most likely computed with a corrected gradient; Table 1's OAS \
-             column was not re-run with it.\n",
-            fmt_opt(b1.as_ref().and_then(|r| r.num("period")), 4),
-            fmt_opt(b1.as_ref().and_then(|r| r.num("max_disorder")), 3),
-            fmt_opt(b0.as_ref().and_then(|r| r.num("period")), 4),
-            fmt_opt(b0.as_ref().and_then(|r| r.num("max_disorder")), 3),
+            "Earlier check at H/dp = 10 (v_f = 0.05, t ≤ 0.7 s, solid clamp): with B the OAS \
+             plate is stiffer and more ordered, T = {} s and max disorder {}, against T = {} s \
+             and {} without.\n",
+            fmt_opt(period(&b1), 4),
+            disorder(&b1),
+            fmt_opt(period(&b0), 4),
+            disorder(&b0),
         )
         .unwrap();
     }
     writeln!(md, "### Convergence (ENOG, v_f = 0.05)\n").unwrap();
     writeln!(
         md,
-        "| H/dp | particles | T | vs paper (0.279) | vs thin plate | particle-steps/s |"
+        "| H/dp | particles | T frame | vs paper (0.279) | vs thin plate | T solid | vs paper | particle-steps/s (frame) |"
     )
     .unwrap();
-    writeln!(md, "|---|---|---|---|---|---|").unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|---|").unwrap();
     let mut series = Vec::new();
     for res in CONVERGENCE_RES {
-        let r = load(&plate_id("ul-enog", res, 0.05));
+        let r = load(&plate_id("ul-enog", res, 0.05, "frame"));
+        let so = load(&plate_id("ul-enog", res, 0.05, "solid"));
         let t = period(&r);
         writeln!(
             md,
-            "| {res} | {} | {} | {} | {} | {} |",
+            "| {res} | {} | {} | {} | {} | {} | {} | {} |",
             fmt_opt(r.as_ref().and_then(|r| r.num("particles")), 0),
             t.map_or(state(&r), |t| format!("{t:.4}")),
             pct(rel(t, Some(0.279))),
             pct(rel(t, r.as_ref().and_then(|r| r.num("period_theory")))),
+            cell(&so),
+            pct(rel(period(&so), Some(0.279))),
             rate(&r),
         )
         .unwrap();
-        if let Some(r) = r {
-            series.push(Series {
-                label: format!("H/dp = {res}"),
-                points: r.probe_series("tip", 1),
-                markers: false,
-            });
+        for (run, clamp) in [(r, "frame"), (so, "solid")] {
+            if let Some(run) = run {
+                series.push(Series {
+                    label: format!("H/dp = {res}, {clamp}"),
+                    points: run.probe_series("tip", 1),
+                    markers: false,
+                });
+            }
         }
     }
     writeln!(md).unwrap();
@@ -389,7 +502,8 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
          Dual-criteria stepping with the kernel data refreshed every acoustic sub-step (the \
          default); the last row freezes them over the advection step as docs/methods.md describes, \
          which softens the plate secularly (the paper ran its long run with single stepping, \
-         which avoids that too). Energy: the budget's residual (kinetic + volumetric + shear + \
+         which avoids that too). Solid clamp (runs made before the clamp key; the zigzag does \
+         not depend on it). Energy: the budget's residual (kinetic + volumetric + shear + \
          dissipated − total at t = 0, relative to it; see the impacts section), with the \
          shear energy estimated from the output stress (for ENOG: eq 26, not the energy its \
          force derives from) / with the exactly accumulated work of ENOG's A_s; and the \
@@ -525,6 +639,44 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         }
     }
     writeln!(md).unwrap();
+    let like: Vec<String> = TABLE3.iter().map(|t| plate3d_id(3, t.0)).collect();
+    let mut finer = Vec::new();
+    for (mode, res) in [((1, 1), 5), ((2, 1), 5), ((2, 2), 5), ((2, 2), 9)] {
+        if load(&plate3d_id(res, mode)).is_some() {
+            continue;
+        }
+        let theory = TABLE3.iter().find(|t| t.0 == mode).map_or(0.0, |t| t.2);
+        if let Some(cost) = cost_estimate(
+            "oscillating-plate-3d",
+            "ul-enog",
+            &plate3d_set(res, mode, theory),
+            &like,
+        ) {
+            finer.push(format!(
+                "({}, {}) at H/dp = {res}: {cost} (`{}`)",
+                mode.0,
+                mode.1,
+                command_for(
+                    &plate3d_id(res, mode),
+                    "oscillating-plate-3d",
+                    "ul-enog",
+                    &plate3d_set(res, mode, theory)
+                )
+            ));
+        }
+    }
+    if !finer.is_empty() {
+        writeln!(
+            md,
+            "Not run at the paper's finer resolutions (estimates from `sph run … --dry-run` and \
+             the rates of the H/dp = 3 runs; `validate ul --fine` adds (2, 2) at H/dp = 5):\n"
+        )
+        .unwrap();
+        for f in finer {
+            writeln!(md, "- {f}").unwrap();
+        }
+        writeln!(md).unwrap();
+    }
 
     writeln!(
         md,
@@ -539,7 +691,12 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
          momentum conserved to round-off, test `contact_between_bodies_conserves_momentum_and_\
          rebounds`). Disorder indicator as for the long run; `isolated` = the most particles \
          without any neighbour of their own body at a rebuild (numerical fracture); stress \
-         roughness as in the MPS rings section (largest over the snapshots).\n"
+         roughness as in the MPS rings section, largest over the snapshots, in windows that move \
+         with the rings (`frames::rings_roughness`: near = within 0.01 m of each ring's facing \
+         extreme and |y| < 0.02 m, far = beyond 0.025 m from each ring's centre on its outer \
+         side); `–` when a window held no particle in any snapshot. No energy column: the UL \
+         shear energy was an estimate (see the long run); the closed UL energy budget of the \
+         impact cases will replace it.\n"
     )
     .unwrap();
     writeln!(
@@ -547,7 +704,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         "| v0 / c0 | method | status | max disorder | p99 disorder at end | isolated | stress roughness near contact / far sides | residual est. / exact |"
     )
     .unwrap();
-    writeln!(md, "|---|---|---|---|---|---|---|---|").unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|").unwrap();
     let mut ring_dis = Vec::new();
     for v in RING_SPEEDS {
         for method in UL_METHODS {
@@ -559,9 +716,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
                 r.as_ref()
                     .and_then(roughness_series)
                     .map_or("–".into(), |(_, near, far)| {
-                        let peak =
-                            |v: &[Option<f64>]| v.iter().flatten().copied().fold(0.0, f64::max);
-                        format!("{:.3} / {:.3}", peak(&near), peak(&far))
+                        format!("{} / {}", fmt_opt(peak(&near), 3), fmt_opt(peak(&far), 3))
                     });
             writeln!(
                 md,

@@ -8,6 +8,9 @@
 //!   deformation gradient of eq 4, and the energy-consistent force of eq 7 (`f_i = −∂U/∂x_i`,
 //!   `U = Σ_i V_i ψ(F_i)`);
 //! - [`pressure`]: follower surface pressure on tagged boundary particles (Nanson's formula);
+//! - [`stabilisation`] (beyond the paper, off by default): a penalty potential on the residual
+//!   of the WLS fit that removes the zero-energy modes of eq 4–5 and keeps the model
+//!   Hamiltonian;
 //! - [`solver`]: body set-up in the reference configuration (total Lagrangian: neighbours,
 //!   weights and `A_i⁻¹` are fixed) and the symplectic time step (velocity Verlet by default,
 //!   the paper's symplectic Euler of eq 8 as an option), `Δt = C l0 / c`.
@@ -42,8 +45,10 @@
 pub mod contact;
 pub mod pressure;
 pub mod solver;
+pub mod stabilisation;
 pub mod wls;
 
 pub use contact::Contact;
 pub use pressure::{PressureFunction, SurfacePressure};
 pub use solver::{Energy, Integrator, MpsParams, MpsSolver};
+pub use wls::Fit;

@@ -4,7 +4,8 @@
 
 use crate::contact::{Contact, ResolvedContact};
 use crate::pressure::{ResolvedPressure, SurfacePressure};
-use crate::wls::{self, cofactor, weight};
+use crate::stabilisation::Stabilisation;
+use crate::wls::{self, cofactor, weight, Fit};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::DEFAULT_MIN_EIGENVALUE;
@@ -60,6 +61,15 @@ pub struct MpsParams {
     /// Guard threshold of the moment matrix `A_i` (scaled to `≈ I`), see
     /// [`crate::wls::moment_inverse`].
     pub moment_min_eigenvalue: f64,
+    /// The fit that gives `F` (default: the paper's linear fit of eq 4–5).
+    #[serde(default)]
+    pub fit: Fit,
+    /// Strength `α` (≥ 0, dimensionless) of the Hamiltonian stabilisation of
+    /// [`crate::stabilisation`]: a penalty potential on the residual of the WLS fit,
+    /// `U_s = Σ_i (α μ V_i/2) Σ_j ŵ_ij |x_ij − F_i X_ij|²/|X_ij|²`, which gives the zero-energy
+    /// modes of eq 4–5 a stiffness `α μ`. 0 = off, the paper's model (default).
+    #[serde(default)]
+    pub stabilisation: f64,
 }
 
 impl Default for MpsParams {
@@ -70,23 +80,33 @@ impl Default for MpsParams {
             integrator: Integrator::VelocityVerlet,
             damping: 0.0,
             moment_min_eigenvalue: DEFAULT_MIN_EIGENVALUE,
+            fit: Fit::Linear,
+            stabilisation: 0.0,
         }
     }
 }
 
-/// Kinetic and strain energy of the body.
+/// Kinetic and potential energies of the body.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Energy {
     /// `Σ ½ m v²`.
     pub kinetic: f64,
     /// `U = Σ V ψ(F)`, the potential of eq 1 (plus the contact potential when contact is on).
     pub strain: f64,
+    /// The stabilisation potential `U_s` ([`crate::stabilisation`]; 0 when off).
+    #[serde(default)]
+    pub stabilisation: f64,
 }
 
 impl Energy {
-    /// Kinetic plus strain energy (the Hamiltonian of a free body).
+    /// The potential energy: strain (and contact) plus stabilisation.
+    pub fn potential(&self) -> f64 {
+        self.strain + self.stabilisation
+    }
+
+    /// Kinetic plus potential energy (the Hamiltonian of a free body).
     pub fn total(&self) -> f64 {
-        self.kinetic + self.strain
+        self.kinetic + self.potential()
     }
 }
 
@@ -104,8 +124,10 @@ pub struct MpsSolver<D: Dim, M: Material<D>> {
     masses: Vec<f64>,
     inv_masses: Vec<f64>,
     list: NeighborList,
-    /// `w_ij X_ij` per pair (`X_ij = X_j − X_i`).
-    wx: Vec<D::Vector>,
+    /// The gradient vectors `g_ij` of `F_i = Σ_j x_ij ⊗ g_ij` per pair (see [`crate::wls`]).
+    g: Vec<D::Vector>,
+    /// `g_ji` of pair `(i, j)`, in `i`'s list order.
+    g_rev: Vec<D::Vector>,
     /// `A_i⁻¹` (eq 5, guarded).
     a_inv: Vec<D::Matrix>,
     guarded: usize,
@@ -115,7 +137,7 @@ pub struct MpsSolver<D: Dim, M: Material<D>> {
     positions: Vec<D::Vector>,
     velocities: Vec<D::Vector>,
     deformation: Vec<D::Matrix>,
-    /// `G_i = V_i P_i A_i⁻ᵀ` (eq 7).
+    /// `T_i = V_i P_i` (eq 7; minus the stabilisation's `Q_i` when it is on).
     stress_term: Vec<D::Matrix>,
     forces: Vec<D::Vector>,
     accelerations: Vec<D::Vector>,
@@ -126,6 +148,8 @@ pub struct MpsSolver<D: Dim, M: Material<D>> {
     pressures: Vec<ResolvedPressure<D>>,
     contact: Option<ResolvedContact>,
     contact_energy: f64,
+    stabilisation: Option<Stabilisation<D>>,
+    stabilisation_energy: f64,
     probes: Vec<Probe<D>>,
     schedule: ProbeSchedule,
     time: f64,
@@ -154,6 +178,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         }
         check_positive("courant", params.courant)?;
         check_non_negative("damping", params.damping)?;
+        check_non_negative("stabilisation", params.stabilisation)?;
         check_positive("moment_min_eigenvalue", params.moment_min_eigenvalue)?;
         let n = body.len();
         let velocities = body.velocities_or_rest();
@@ -176,17 +201,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
                 required: D::D + 1,
             });
         }
-        // Per-pair reference data (eq 6), in list order.
-        let mut wx = vec![D::zero(); list.num_pairs()];
-        let mut ref_pairs = vec![
-            PairKernel::<D> {
-                e: D::zero(),
-                r: 0.0,
-                w: 0.0,
-                dw: 0.0,
-            };
-            list.num_pairs()
-        ];
+        // Per-pair reference data (eq 6), in list order: (w_ij, X_ij).
+        let mut pairs = vec![(0.0, D::zero()); list.num_pairs()];
         for i in 0..n {
             for (k, &j) in list.range(i).zip(list.neighbors(i)) {
                 let xij = reference[j as usize] - reference[i];
@@ -198,26 +214,61 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
                         "distinct reference positions",
                     ));
                 }
-                let w = weight(r, re);
-                wx[k] = xij * w;
-                ref_pairs[k] = PairKernel {
-                    e: xij * (-1.0 / r),
+                pairs[k] = (weight(r, re), xij);
+            }
+        }
+        let ref_pairs: Vec<PairKernel<D>> = pairs
+            .iter()
+            .map(|&(w, x)| {
+                let r = D::norm(x);
+                PairKernel {
+                    e: x * (-1.0 / r),
                     r,
                     w,
                     dw: 0.0,
-                };
-            }
-        }
+                }
+            })
+            .collect();
         let inv: Vec<(D::Matrix, bool)> = (0..n)
             .into_par_iter()
             .map(|i| {
-                let pairs = ref_pairs[list.range(i)].iter().map(|p| (p.w, p.e * -p.r));
-                wls::moment_inverse::<D>(pairs, params.moment_min_eigenvalue)
+                wls::moment_inverse::<D>(
+                    pairs[list.range(i)].iter().copied(),
+                    params.moment_min_eigenvalue,
+                )
             })
             .collect();
-        let guarded = inv.iter().filter(|r| r.1).count();
-        let a_inv = inv.into_iter().map(|r| r.0).collect();
+        let a_inv: Vec<D::Matrix> = inv.iter().map(|r| r.0).collect();
+        let fits: Vec<(Vec<D::Vector>, bool)> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let own = &pairs[list.range(i)];
+                match params.fit {
+                    Fit::Linear => (
+                        own.iter().map(|&(w, x)| a_inv[i] * (x * w)).collect(),
+                        inv[i].1,
+                    ),
+                    Fit::Quadratic => {
+                        wls::quadratic_gradient_vectors::<D>(own, re, params.moment_min_eigenvalue)
+                    }
+                }
+            })
+            .collect();
+        let guarded = fits.iter().filter(|r| r.1).count();
+        let g: Vec<D::Vector> = fits.into_iter().flat_map(|r| r.0).collect();
+        let g_rev = wls::reverse_pairs(&list).iter().map(|&k| g[k]).collect();
         let volumes = body.volumes;
+        let stabilisation = if params.stabilisation > 0.0 {
+            Some(Stabilisation::new(
+                params.stabilisation,
+                constants.shear_modulus,
+                &list,
+                &pairs,
+                &volumes,
+            )?)
+        } else {
+            None
+        };
         let masses: Vec<f64> = volumes.iter().map(|v| v * density).collect();
         let mut solver = Self {
             material,
@@ -232,7 +283,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             volumes,
             masses,
             list,
-            wx,
+            g,
+            g_rev,
             a_inv,
             guarded,
             ref_pairs,
@@ -247,6 +299,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             pressures: Vec::new(),
             contact: None,
             contact_energy: 0.0,
+            stabilisation,
+            stabilisation_energy: 0.0,
             probes: Vec::new(),
             schedule: ProbeSchedule::every(0.0)?,
             time: 0.0,
@@ -278,9 +332,12 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// Particle indices outside the body, normals or areas of the wrong length, zero or
     /// non-finite normals, non-positive areas, or an interior particle with estimated normals.
     pub fn with_surface_pressure(mut self, sp: SurfacePressure<D>) -> Result<Self, Error> {
-        let (list, wx) = (&self.list, &self.wx);
+        let (list, pairs) = (&self.list, &self.ref_pairs);
         let resolved = ResolvedPressure::resolve(sp, self.len(), self.dp, |i| {
-            wx[list.range(i)].iter().fold(D::zero(), |s, &v| s + v)
+            // Σ_j w_ij X_ij (X_ij = −r e).
+            pairs[list.range(i)]
+                .iter()
+                .fold(D::zero(), |s, p| s + p.e * (-p.r * p.w))
         })?;
         self.pressures.push(resolved);
         self.refresh();
@@ -332,19 +389,41 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         self.compute_accelerations();
     }
 
-    /// `F` (eq 4) and the internal forces (eq 7) of the current positions.
+    /// `F` (eq 4) and the internal forces (eq 7, with the stabilisation's when on) of the
+    /// current positions.
     fn compute_forces(&mut self) {
         wls::deformation_and_stress::<D, M>(
             &self.material,
             &self.list,
-            &self.wx,
-            &self.a_inv,
+            &self.g,
             &self.volumes,
             &self.positions,
             &mut self.deformation,
             &mut self.stress_term,
         );
-        wls::internal_forces::<D>(&self.list, &self.wx, &self.stress_term, &mut self.forces);
+        if let Some(st) = &self.stabilisation {
+            self.stabilisation_energy = st.add_stress_terms(
+                &self.list,
+                &self.positions,
+                &self.deformation,
+                &mut self.stress_term,
+            );
+        }
+        wls::internal_forces::<D>(
+            &self.list,
+            &self.g,
+            &self.g_rev,
+            &self.stress_term,
+            &mut self.forces,
+        );
+        if let Some(st) = &self.stabilisation {
+            st.pair_forces(
+                &self.list,
+                &self.positions,
+                &self.deformation,
+                &mut self.forces,
+            );
+        }
         if let Some(c) = &self.contact {
             // Positions are finite here (checked after every step), so the search cannot fail;
             // a failure would surface as NaN energy.
@@ -382,7 +461,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             .apply_to_accelerations(&mut self.accelerations);
     }
 
-    /// The internal forces `f_i = −∂U/∂x_i` (eq 7 times `m_i`) of the current positions,
+    /// The internal forces `f_i = −∂U/∂x_i` (eq 7 times `m_i`; `U` includes the stabilisation
+    /// potential when it is on) of the current positions,
     /// without pressure, loads or constraints. For tests and diagnostics; does not change the
     /// state.
     pub fn evaluate_forces(&mut self) -> &[D::Vector] {
@@ -517,7 +597,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         &self.a_inv
     }
 
-    /// How many particles needed the guard of `A_i`.
+    /// How many particles needed the guard of `A_i` (or, with the quadratic fit, fell back to
+    /// the linear one).
     pub fn guarded_particles(&self) -> usize {
         self.guarded
     }
@@ -563,7 +644,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         Ok(self)
     }
 
-    /// Kinetic energy `Σ ½ m v²` and strain energy `Σ V ψ(F)` of the current state.
+    /// Kinetic energy `Σ ½ m v²`, strain energy `Σ V ψ(F)` (with the contact potential) and the
+    /// stabilisation potential of the current state.
     pub fn energy(&self) -> Energy {
         let kinetic = diagnostics::kinetic_energy::<D>(&self.velocities, &self.masses);
         let strain = self
@@ -573,7 +655,19 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             .map(|(&f, &v)| v * self.material.strain_energy_density(f).unwrap_or(f64::NAN))
             .sum::<f64>()
             + self.contact_energy;
-        Energy { kinetic, strain }
+        Energy {
+            kinetic,
+            strain,
+            stabilisation: self.stabilisation_energy,
+        }
+    }
+
+    /// The stabilisation energy of every particle, `½ s_i Σ_j k_ij |x_ij − F_i X_ij|²`
+    /// ([`crate::stabilisation`]); `None` when the stabilisation is off.
+    pub fn stabilisation_energies(&self) -> Option<Vec<f64>> {
+        self.stabilisation
+            .as_ref()
+            .map(|st| st.energies(&self.list, &self.positions, &self.deformation))
     }
 
     /// The disorder indicator of docs/methods.md per particle, with the MPS weights of eq 6 in
@@ -737,7 +831,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
 
     fn energies(&self) -> Option<(f64, f64)> {
         let e = self.energy();
-        Some((e.kinetic, e.strain))
+        Some((e.kinetic, e.potential()))
     }
 
     fn momentum(&self) -> Option<glam::DVec3> {

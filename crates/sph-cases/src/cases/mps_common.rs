@@ -10,7 +10,7 @@ use serde_json::{json, Map, Value as Json};
 use sph_core::Body;
 use sph_core::{Dim, Probe, Solver, WendlandC2};
 use sph_materials::MaterialModel;
-use sph_mps::{Integrator, MpsParams, MpsSolver};
+use sph_mps::{Fit, Integrator, MpsParams, MpsSolver};
 
 /// The MPS method names.
 pub const MPS_METHODS: &[&str] = &["mps"];
@@ -45,6 +45,20 @@ pub fn mps_params() -> Vec<Param> {
             Range::NonNegative,
             "velocity damping c_d (1/s) for static problems; 0 = Hamiltonian",
         ),
+        Param::choice(
+            "fit",
+            "linear",
+            &["linear", "quadratic"],
+            "the WLS fit that gives F: linear (MPS eq 4–5) or with quadratic terms (exact for \
+             quadratic fields at free surfaces too; beyond the paper)",
+        ),
+        Param::float(
+            "stabilisation",
+            d.stabilisation,
+            Range::Closed(0.0, 100.0),
+            "strength α of the Hamiltonian stabilisation (penalty potential on the residual of \
+             the WLS fit, stiffness α μ; beyond the paper); 0 = the paper's model",
+        ),
     ];
     v.extend(crate::runner::output_params());
     v
@@ -60,6 +74,11 @@ pub fn mps_numerics(p: &Params) -> MpsParams {
             _ => Integrator::VelocityVerlet,
         },
         damping: p.f64("damping"),
+        fit: match p.text("fit") {
+            "quadratic" => Fit::Quadratic,
+            _ => Fit::Linear,
+        },
+        stabilisation: p.f64("stabilisation"),
         ..MpsParams::default()
     }
 }

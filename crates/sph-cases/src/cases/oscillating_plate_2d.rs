@@ -2,10 +2,16 @@
 //!
 //! A plate strip of free length `L` and thickness `H` (centred on y = 0) continues into a
 //! clamping base: the strip extends `base_length` into the base and the base adds
-//! `base_layers` layers above and below it, as in SPHinXsys's `test_2d_oscillating_beam`
-//! (SL = 0.06, 4 layers). Every particle with x < 0 is held fixed. The initial velocity is the
-//! first cantilever mode (TL eq 34–36), `v_y = v_f c f(x)/f(L)` for x > 0, `c = √(K/ρ0)`. The
-//! tip probe is the material point (L, 0), interpolated (Shepard) from the particles around it.
+//! `base_layers` layers above, below and behind it, as in SPHinXsys's `test_2d_oscillating_beam`
+//! (SL = 0.06, BW = 4 layers). Which particles are held fixed is the key `clamp` ([`Clamp`]):
+//! `frame` (default) holds only the frame around the embedded strip — the base rectangle
+//! `[−SL − BW, 0] × [−(H/2 + BW), H/2 + BW]` minus the strip — and leaves the embedded strip
+//! particles free between the fixed layers, as SPHinXsys's beam does and as the TL paper
+//! describes it ("clamped between several layers of constrained SPH particles", Fig. 2);
+//! `solid` holds every particle with x < 0, the embedded strip included (stiffer: the plate's
+//! root cannot bend inside the base). The initial velocity is the first cantilever mode
+//! (TL eq 34–36), `v_y = v_f c f(x)/f(L)` for x > 0, `c = √(K/ρ0)`. The tip probe is the
+//! material point (L, 0), interpolated (Shepard) from the particles around it.
 
 use crate::analysis::{extremes, mean_period};
 use crate::cases::tl_common::{material, run_tl, tl_params};
@@ -19,7 +25,7 @@ use serde_json::{json, Map, Value as Json};
 use sph_core::generate::{Aabb, Lattice, ParticleSet, Shape};
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Probe, Solver, D2};
-use sph_materials::MaterialKind;
+use sph_materials::{DeviatorDimension, MaterialKind};
 
 /// `kL` of the first cantilever mode (root of cos kL cosh kL = −1, TL eq 36).
 pub const KL: f64 = 1.875;
@@ -29,6 +35,78 @@ pub const PLATE_METHODS: &[&str] = &["tl-hf", "tl", "tl-gm", "ul-enog", "ul-og",
 
 /// The oscillating plate, 2D plane strain.
 pub struct OscillatingPlate2d;
+
+/// Which particles of a plate's clamping base are held fixed (case key `clamp`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Clamp {
+    /// Only the frame around the embedded strip (the base minus the strip rectangle): the
+    /// embedded strip particles move, held between the fixed layers. SPHinXsys's
+    /// `test_2d_oscillating_beam` (its constraint shape is the base polygon minus the beam
+    /// polygon), the set-up of the TL and UL papers' plate.
+    Frame,
+    /// Every particle with x < 0: the embedded strip is rigid.
+    Solid,
+}
+
+impl Clamp {
+    /// The key's words.
+    pub const CHOICES: &'static [&'static str] = &["frame", "solid"];
+
+    /// The case key with the case's default (the oscillating plate: `frame`, the TL and UL
+    /// papers' set-up; the MPS cantilever plate: `solid`, see its documentation).
+    pub fn param(default: Clamp) -> Param {
+        Param::choice(
+            "clamp",
+            match default {
+                Self::Frame => "frame",
+                Self::Solid => "solid",
+            },
+            Self::CHOICES,
+            "fixed particles of the base: frame = the layers around the embedded strip \
+             (SPHinXsys's beam, the papers' set-up; the embedded strip moves), solid = every \
+             particle with x < 0",
+        )
+    }
+
+    /// The clamp of the case key `clamp`.
+    pub fn of(p: &Params) -> Result<Self, CaseError> {
+        match p.text("clamp") {
+            "frame" => Ok(Self::Frame),
+            "solid" => Ok(Self::Solid),
+            other => Err(CaseError::InvalidValue {
+                key: "clamp".into(),
+                value: other.into(),
+                allowed: Self::CHOICES.join(", "),
+            }),
+        }
+    }
+
+    /// The region of [`plate_particles`] this clamp holds fixed.
+    pub fn region(self) -> &'static str {
+        match self {
+            Self::Frame => "frame",
+            Self::Solid => "base",
+        }
+    }
+
+    /// The fixed particles of a plate built by [`plate_particles`].
+    ///
+    /// # Errors
+    /// `frame` with an empty frame (`base_layers = 0` leaves only the back wall, which cannot
+    /// clamp the strip; a frame needs layers above and below it).
+    pub fn fixed(self, set: &ParticleSet<D2>, base_layers: i64) -> Result<Vec<u32>, CaseError> {
+        if self == Self::Frame && base_layers < 1 {
+            return Err(CaseError::InvalidValue {
+                key: "clamp".into(),
+                value: "frame".into(),
+                allowed: "solid when base_layers = 0 (a frame needs fixed layers above and below \
+                          the strip)"
+                    .into(),
+            });
+        }
+        Ok(set.tagged(self.region())?)
+    }
+}
 
 /// Thin-plate period `T = 2π/ω`, `ω² = E H² k⁴ / (12 ρ (1 − ν²))` (TL eq 37).
 pub fn thin_plate_period(length: f64, thickness: f64, youngs: f64, nu: f64, density: f64) -> f64 {
@@ -45,7 +123,9 @@ pub fn mode_shape(x: f64, length: f64) -> f64 {
         - (kl.cos() + kl.cosh()) * ((k * x).sin() - (k * x).sinh())
 }
 
-/// The plate's particles: strip plus base, with the region `base` (x < 0) tagged.
+/// The plate's particles: strip plus base, with the regions `base` (x < 0) and `frame` (the
+/// base minus the strip rectangle: `base_layers` layers above, below and behind the embedded
+/// strip) tagged.
 pub fn plate_particles(
     length: f64,
     thickness: f64,
@@ -72,6 +152,9 @@ pub fn plate_particles(
     let lattice = Lattice::<D2>::new(dp, DVec2::new(-sl - bw, -half - bw))?;
     let mut set = ParticleSet::fill(&lattice, &shape)?;
     set.tag_where("base", |_, x| x.x < 0.0)?;
+    // Particle centres lie half a spacing inside the lattice cells, so these tests never meet
+    // a boundary exactly.
+    set.tag_where("frame", |_, x| x.x < 0.0 && (x.x < -sl || x.y.abs() > half))?;
     Ok((set, dp))
 }
 
@@ -105,13 +188,22 @@ impl Case for OscillatingPlate2d {
                 "base_layers",
                 4,
                 Range::Closed(1.0, 20.0),
-                "base layers above and below",
+                "base layers above, below and behind the strip",
             ),
+            Clamp::param(Clamp::Frame),
             Param::choice(
                 "material",
                 "linear-elastic",
                 &["linear-elastic", "neo-hookean", "kirchhoff-vol-dev"],
                 "constitutive law (TL paper: linear elastic; tl-hf: the HF law of TL eq. 10–14)",
+            ),
+            Param::choice(
+                "deviator",
+                "spatial",
+                &["spatial", "embedded-3d"],
+                "kirchhoff-vol-dev only: isochoric split with d = 2 (spatial, the papers') or \
+                 d = 3 on the plane-strain embedding (embedded-3d: plane-strain Hooke at small \
+                 strain)",
             ),
         ];
         specs.extend(tl_params());
@@ -133,7 +225,7 @@ impl Case for OscillatingPlate2d {
     ) -> Result<(RunRecord, Map<String, Json>), CaseError> {
         let (l, h) = (p.f64("length"), p.f64("thickness"));
         let (e, nu, rho) = (p.f64("youngs_modulus"), p.f64("nu"), p.f64("density"));
-        let kind: MaterialKind = p.text("material").parse()?;
+        let kind = material_kind(p)?;
         let mat = material(kind, e, nu, rho)?;
         let c0 = sph_materials::Material::<D2>::constants(&mat).sound_speed;
         let (set, dp) = plate_particles(
@@ -144,7 +236,7 @@ impl Case for OscillatingPlate2d {
             p.int("base_layers"),
         )?;
         let velocities = first_mode_velocities(set.positions(), l, p.f64("vf") * c0);
-        let base = set.tagged("base")?;
+        let base = Clamp::of(p)?.fixed(&set, p.int("base_layers"))?;
         let probe_interval = p.f64("probe_interval");
         let period_theory = thin_plate_period(l, h, e, nu, rho);
         let end_time = p.f64("end_time");
@@ -210,6 +302,27 @@ impl Case for OscillatingPlate2d {
             options,
             summarise,
         )
+    }
+}
+
+/// The law of the keys `material` and `deviator` (`deviator = embedded-3d` is an error for a
+/// law without an isochoric split).
+fn material_kind(p: &Params) -> Result<MaterialKind, CaseError> {
+    let kind: MaterialKind = p.text("material").parse()?;
+    match (kind, p.text("deviator")) {
+        (_, "spatial") => Ok(kind),
+        (MaterialKind::KirchhoffVolDev { .. }, "embedded-3d") => {
+            Ok(MaterialKind::KirchhoffVolDev {
+                deviator: DeviatorDimension::Embedded3d,
+            })
+        }
+        (_, other) => Err(CaseError::InvalidValue {
+            key: "deviator".into(),
+            value: other.into(),
+            allowed: "spatial unless material = kirchhoff-vol-dev (only that law has an \
+                      isochoric split)"
+                .into(),
+        }),
     }
 }
 
@@ -294,5 +407,35 @@ mod tests {
         assert_eq!(free, 1000);
         // Base: (30 + 4) columns × (10 + 8) rows.
         assert_eq!(set.tagged("base").unwrap().len(), 34 * 18);
+        // Frame: the base minus the 30 × 10 embedded strip.
+        assert_eq!(set.tagged("frame").unwrap().len(), 34 * 18 - 30 * 10);
+    }
+
+    #[test]
+    fn frame_clamp_leaves_the_embedded_strip_free_and_surrounds_it() {
+        let (set, dp) = plate_particles(0.2, 0.02, 10, 0.06, 4).unwrap();
+        let frame = Clamp::Frame.fixed(&set, 4).unwrap();
+        let x = set.positions();
+        // Every embedded strip particle is free; every frame particle lies outside the strip.
+        for &i in &frame {
+            let p = x[i as usize];
+            assert!(p.x < -0.06 || p.y.abs() > 0.01, "{p:?} is in the strip");
+        }
+        let embedded = (0..x.len())
+            .filter(|&i| x[i].x < 0.0 && x[i].x > -0.06 && x[i].y.abs() < 0.01)
+            .count();
+        assert_eq!(embedded, 300);
+        assert_eq!(frame.len() + embedded, 34 * 18);
+        // 4 layers above and below and 4 columns behind.
+        let above = frame.iter().filter(|&&i| x[i as usize].y > 0.01).count();
+        assert_eq!(above, 4 * 34);
+        let behind = frame
+            .iter()
+            .filter(|&&i| x[i as usize].x < -0.06 && x[i as usize].y.abs() < 0.01)
+            .count();
+        assert_eq!(behind, 4 * 10);
+        assert!(dp > 0.0);
+        assert!(Clamp::Frame.fixed(&set, 0).is_err());
+        assert_eq!(Clamp::Solid.fixed(&set, 0).unwrap().len(), 34 * 18);
     }
 }
