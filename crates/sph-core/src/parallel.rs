@@ -1,10 +1,12 @@
 //! When a loop over particles goes to the rayon pool, in one place for every method.
 //!
 //! A parallel loop costs a hand-off: waking a worker, splitting, joining (measured on the 2D
-//! plate, 1,612 particles: a TL step is ~110 µs of physics in about twenty loops, and with two
-//! threads the hand-offs made the run 1.7× *slower* than one thread). Loops over fewer than
-//! [`MIN_PARTICLES_PER_TASK`] particles per task therefore stay on the calling thread, and a loop
-//! splits only into tasks of at least that many particles. Every loop that uses these helpers
+//! plate, 1,612 particles: a TL step is ~110 µs of physics in about twenty loops). Loops over
+//! fewer than twice [`MIN_PARTICLES_PER_TASK`] particles therefore stay on the calling thread,
+//! and a loop splits only into tasks of at least that many particles. The value is measured:
+//! at 1,024 per task the 1,612-particle UL plate ran serially and took 24.4 s instead of 15.0 s
+//! on two threads (`sph run oscillating-plate-2d --method ul-enog --set h_over_dp=1.3
+//! --threads 2 --no-output`), so 512 keeps it split in up to three tasks. Every loop that uses these helpers
 //! is a gather (each task writes only its own entries, sums in neighbour-list order), so the
 //! results are identical for any thread count and any split.
 
@@ -12,7 +14,7 @@ use rayon::prelude::*;
 
 /// The fewest particles a parallel task gets: loops over fewer than twice this many particles
 /// run on the calling thread. Use with `par_iter().with_min_len(MIN_PARTICLES_PER_TASK)`.
-pub const MIN_PARTICLES_PER_TASK: usize = 1024;
+pub const MIN_PARTICLES_PER_TASK: usize = 512;
 
 /// Whether a loop over `n` particles is split over the rayon pool at all.
 #[inline]
