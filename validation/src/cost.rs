@@ -126,6 +126,14 @@ pub fn run_or_load(
         .spawn()
         .map_err(|e| format!("{}: {e}", sph.display()))?;
     let (exit_code, usage, stderr) = wait_with_usage(child)?;
+    // 130/143 (SIGINT/SIGTERM: `sph` stopped cleanly) or 128 + n (killed): the run was stopped
+    // from outside, which says nothing about the method; not stored.
+    if exit_code >= 128 {
+        let _ = std::fs::remove_file(&summary_path);
+        return Err(format!(
+            "{id}: sph was stopped from outside (exit status {exit_code}); not stored"
+        ));
+    }
     let wall_seconds = started.elapsed().as_secs_f64();
     let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
     let mut summary: Map<String, Value> = std::fs::read_to_string(&summary_path)

@@ -497,21 +497,35 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
     };
     let reference = match scene.measure {
         Measure::Extrapolated { reference_line, .. } => {
-            let fit = richardson(&series_of(reference_line));
-            match fit {
-                Some((f, p)) => writeln!(
-                    md,
-                    "Reference value: {f:.5} ({reference_line}, fitted order {p:.2}).\n"
-                )
-                .unwrap(),
-                None => writeln!(
-                    md,
-                    "No reference yet: {reference_line} needs three resolutions converging \
-                     monotonically.\n"
-                )
-                .unwrap(),
+            let line = series_of(reference_line);
+            let fit = richardson(&line);
+            let finest = line.iter().min_by(|a, b| a.0.total_cmp(&b.0)).map(|p| p.1);
+            match (fit, finest) {
+                (Some((f, p)), _) => {
+                    writeln!(
+                        md,
+                        "Reference value: {f:.5} ({reference_line}, fitted order {p:.2}).\n"
+                    )
+                    .unwrap();
+                    Some(f)
+                }
+                (None, Some(f)) => {
+                    writeln!(
+                        md,
+                        "Reference value: {f:.5}, the finest {reference_line} run: its stored \
+                         resolutions do not converge monotonically, so there is no Richardson \
+                         extrapolation yet (run the full set). Errors of the other runs are \
+                         relative to it; the reference run's own error shows as zero and is \
+                         left out of the plot.\n"
+                    )
+                    .unwrap();
+                    Some(f)
+                }
+                (None, None) => {
+                    writeln!(md, "No reference yet: no {reference_line} run is stored.\n").unwrap();
+                    None
+                }
             }
-            fit.map(|f| f.0)
         }
         _ => None,
     };
@@ -874,9 +888,11 @@ fn sweep_section(md: &mut String, sweep: &Sweep, fig_dir: &Path) -> Result<bool,
                 )),
             }
         });
+        let ran = cells.iter().any(|c| c.0 == mi);
         match first_bad {
             Some(s) => writeln!(md, "- **{m}** {s}.").unwrap(),
-            None => writeln!(md, "- **{m}** stays ordered over the values run.").unwrap(),
+            None if ran => writeln!(md, "- **{m}** stays ordered over the values run.").unwrap(),
+            None => writeln!(md, "- **{m}**: not run yet.").unwrap(),
         }
     }
     writeln!(
