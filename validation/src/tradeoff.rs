@@ -149,7 +149,12 @@ fn scenes() -> Vec<Scene> {
             key: "lame",
             title: "Pressurised ring, 1 kPa (MPS): inner-radius displacement",
             case: "pressurised-ring-2d",
-            fixed: &["pressure=1000", "damping=30", "end_time=1.5"],
+            fixed: &[
+                "outer_radius=4",
+                "pressure=1000",
+                "damping=30",
+                "end_time=1.5",
+            ],
             resolution_key: "dp",
             quick: &[0.3, 0.2],
             full: &[0.2, 0.1, 0.05],
