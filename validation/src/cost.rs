@@ -53,7 +53,8 @@ impl CostedRun {
         }
     }
 
-    /// Neighbour-pair visits per particle-step normalised work: `pair_visits`.
+    /// The machine-independent work of the run: the summary's `pair_visits` (neighbour pairs
+    /// visited by all force evaluations).
     pub fn work(&self) -> Option<f64> {
         self.num("pair_visits")
     }
