@@ -5,7 +5,9 @@
 //! ([`pairs`]), the kernel-gradient correction matrix ([`correction`]), particle generators
 //! ([`generate`]), constraints, forces and probes a scene attaches ([`scene`]), rigid tools with
 //! frictionless contact ([`tool`]), quasi-static relaxation ([`relaxation`]), the particle
-//! disorder indicator ([`disorder`]), and the [`solver::Solver`] trait.
+//! disorder indicator ([`disorder`]), the [`solver::Solver`] trait, and what a distributed run
+//! needs: communicators ([`comm`]), decomposition ([`decomposition`]) and a rank's share
+//! ([`distributed`]).
 //!
 //! Conventions (docs/methods.md): particle `i`, neighbour `j`; `x_ij = x_i − x_j`, `e_ij = x_ij/r_ij`
 //! points from `j` to `i`; `∇_i W_ij = W′(r_ij) e_ij` with `W′ ≤ 0`.
@@ -15,10 +17,13 @@
 
 pub mod body;
 pub mod budget;
+pub mod comm;
 pub mod correction;
+pub mod decomposition;
 pub mod diagnostics;
 pub mod dim;
 pub mod disorder;
+pub mod distributed;
 pub mod error;
 pub mod generate;
 pub mod kernel;

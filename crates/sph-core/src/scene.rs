@@ -304,6 +304,20 @@ impl<D: Dim> Constraints<D> {
             p.sort_unstable();
         }
     }
+
+    /// Keeps only the particles of a subset and relabels them (`inv[old] = new`, or
+    /// `u32::MAX` for a particle outside the subset): the constraints of one rank's particles
+    /// in a distributed run.
+    pub fn restrict(&mut self, inv: &[u32]) {
+        for c in &mut self.list {
+            let p = c.particles_mut();
+            p.retain(|&i| inv[i as usize] != u32::MAX);
+            for i in p.iter_mut() {
+                *i = inv[*i as usize];
+            }
+            p.sort_unstable();
+        }
+    }
 }
 
 #[inline]
@@ -368,6 +382,22 @@ impl<D: Dim> Loads<D> {
                 p.iter_mut().for_each(|i| *i = inv[*i as usize]);
             }
         }
+        for (i, _) in &mut self.point {
+            *i = inv[*i as usize];
+        }
+    }
+
+    /// Keeps only the loads on particles of a subset and relabels them (`inv[old] = new`, or
+    /// `u32::MAX` for a particle outside the subset). A body acceleration on all particles
+    /// stays on all.
+    pub fn restrict(&mut self, inv: &[u32]) {
+        for (p, _) in &mut self.body {
+            if let Some(p) = p {
+                p.retain(|&i| inv[i as usize] != u32::MAX);
+                p.iter_mut().for_each(|i| *i = inv[*i as usize]);
+            }
+        }
+        self.point.retain(|(i, _)| inv[*i as usize] != u32::MAX);
         for (i, _) in &mut self.point {
             *i = inv[*i as usize];
         }

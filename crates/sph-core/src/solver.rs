@@ -177,6 +177,12 @@ pub trait Solver<D: Dim>: Send {
         None
     }
 
+    /// Number of ranks the run is distributed over (1 unless the solver is a
+    /// [`crate::distributed::DistributedSolver`]).
+    fn ranks(&self) -> usize {
+        1
+    }
+
     /// Advances until `time() ≥ t_end` (the last step is shortened to land on it). Returns the
     /// number of steps taken.
     fn advance_to(&mut self, t_end: f64) -> Result<u64, Error> {

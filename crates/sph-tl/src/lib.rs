@@ -44,4 +44,4 @@ pub mod hourglass_free;
 pub mod original;
 pub mod solver;
 
-pub use solver::{Energy, Shear, TlParams, TlSolver};
+pub use solver::{distribute, Energy, Shear, TlParams, TlSolver};

@@ -24,6 +24,10 @@ use sph_core::{
     StepInfo, WendlandC2,
 };
 use sph_materials::{von_mises, Material};
+use std::sync::Arc;
+
+mod local;
+pub use local::distribute;
 
 /// The shear treatment, fixed when the body is built (hoisted out of the inner loops).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -204,6 +208,8 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     /// time step or the tools need them; 1 otherwise).
     min_stretch: f64,
     max_stretch: f64,
+    /// This rank's share of a distributed run (`None` on one process; see [`distribute`]).
+    domain: Option<Arc<sph_core::distributed::Domain>>,
 }
 
 impl<D: Dim, M: Material<D>> TlSolver<D, M> {
@@ -340,6 +346,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             max_acceleration: 0.0,
             min_stretch: 1.0,
             max_stretch: 1.0,
+            domain: None,
         };
         solver.refresh_rates();
         Ok(solver)
@@ -577,7 +584,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// either is in use. Max and min are exact, so the parallel reduction is deterministic.
     fn update_stretch_extremes(&mut self) {
         if self.params.stretch_limited_dt {
-            self.min_stretch = self
+            let local = self
                 .deformation
                 .par_iter()
                 .with_min_len(MIN_PARTICLES_PER_TASK)
@@ -585,6 +592,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                 .filter(|(_, &f)| f)
                 .map(|(&m, _)| D::min_singular_value(m))
                 .reduce(|| 1.0, f64::min);
+            self.min_stretch = self.reduce_min(local);
         }
         if !self.tools.is_empty() {
             // |Fᵀ n| ≤ ‖F‖_F: a bound on every particle's contact offset factor.
@@ -608,7 +616,10 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             &self.velocities,
             &mut self.deformation_rate,
         );
-        self.max_speed = diagnostics::max_norm_where::<D>(&self.velocities, &self.free);
+        self.max_speed = self.reduce_max(diagnostics::max_norm_where::<D>(
+            &self.velocities,
+            &self.free,
+        ));
     }
 
     /// Accelerations of the current state (positions, `F`, `Ḟ`), without loads or constraints:
@@ -755,26 +766,59 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         &self.accelerations
     }
 
-    /// Total linear momentum `Σ m v`.
+    /// The masses of the particles that count in sums over the body (zero for a rank's halo).
+    fn counted_masses(&self) -> std::borrow::Cow<'_, [f64]> {
+        match &self.domain {
+            None => std::borrow::Cow::Borrowed(&self.masses),
+            Some(d) => std::borrow::Cow::Owned(
+                self.masses
+                    .iter()
+                    .zip(d.owned())
+                    .map(|(&m, &o)| if o { m } else { 0.0 })
+                    .collect(),
+            ),
+        }
+    }
+
+    /// Total linear momentum `Σ m v` (over all ranks in a distributed run).
     pub fn linear_momentum(&self) -> D::Vector {
-        diagnostics::linear_momentum::<D>(&self.velocities, &self.masses)
+        let p = diagnostics::linear_momentum::<D>(&self.velocities, &self.counted_masses());
+        if self.domain.is_none() {
+            return p;
+        }
+        let v = D::to_vec3(p);
+        let s = self.reduce_sum(&[v.x, v.y, v.z]);
+        D::vector([s[0], s[1], s[2]])
     }
 
-    /// Total angular momentum `Σ m x × v` about the origin (3-vector; only `z` in 2D).
+    /// Total angular momentum `Σ m x × v` about the origin (3-vector; only `z` in 2D; over all
+    /// ranks in a distributed run).
     pub fn angular_momentum(&self) -> glam::DVec3 {
-        diagnostics::angular_momentum::<D>(&self.positions, &self.velocities, &self.masses)
+        let l = diagnostics::angular_momentum::<D>(
+            &self.positions,
+            &self.velocities,
+            &self.counted_masses(),
+        );
+        let s = self.reduce_sum(&[l.x, l.y, l.z]);
+        glam::DVec3::new(s[0], s[1], s[2])
     }
 
-    /// Kinetic and strain energy.
+    /// Kinetic and strain energy (over all ranks in a distributed run).
     pub fn energy(&self) -> Energy {
-        let kinetic = diagnostics::kinetic_energy::<D>(&self.velocities, &self.masses);
+        let kinetic = diagnostics::kinetic_energy::<D>(&self.velocities, &self.counted_masses());
         let strain = self
             .deformation
             .iter()
             .zip(&self.volumes)
-            .map(|(&f, &v)| v * self.material.strain_energy_density(f).unwrap_or(f64::NAN))
+            .enumerate()
+            .filter(|(i, _)| self.counts(*i))
+            .map(|(_, (&f, &v))| v * self.material.strain_energy_density(f).unwrap_or(f64::NAN))
             .sum();
-        Energy { kinetic, strain }
+        let s = self.reduce_sum(&[kinetic, strain]);
+        Energy {
+            kinetic: s[0],
+            strain: s[1],
+        }
     }
 
     /// The disorder indicator of docs/methods.md per particle.
@@ -873,6 +917,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             meter.add(-impulse / dt, dt);
         }
         self.hold_centre();
+        self.exchange_velocities();
         self.time += dt;
         self.steps += 1;
         // Eq 22 with v^{n+1}, then eq 32.
@@ -884,9 +929,12 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             &self.velocities,
             half,
         );
-        self.max_acceleration = diagnostics::max_norm_where::<D>(&self.accelerations, &self.free);
+        self.max_acceleration = self.reduce_max(diagnostics::max_norm_where::<D>(
+            &self.accelerations,
+            &self.free,
+        ));
         self.update_stretch_extremes();
-        self.check_finite()?;
+        self.agree(self.check_finite())?;
         if !(self.probes.is_empty() && self.series.is_empty()) && self.schedule.due(self.time) {
             self.record_probes();
             self.record_series();

@@ -1,0 +1,409 @@
+//! One rank's share of a distributed run ([`Domain`]) and the view of the whole body a
+//! distributed solver gives the run driver ([`DistributedSolver`]).
+//!
+//! A rank keeps its owned particles and the two halo layers of [`crate::decomposition`] (plus
+//! the particles its probes read), numbered in ascending global order so that every neighbour
+//! row of an owned or layer-1 particle lists the same neighbours in the same order as in the
+//! single-process run: the sums, and with them the results, are bit-identical. The exchange
+//! moves per-particle values of the halo from their owners, one message per neighbouring rank.
+
+use crate::comm::Communicator;
+use crate::decomposition::Partition;
+use crate::dim::Dim;
+use crate::error::Error;
+use crate::neighbor::NeighborList;
+use crate::scene::{Probe, Series};
+use crate::solver::{EnergyBudget, Field, Solver, StepInfo};
+use std::cell::OnceCell;
+use std::sync::Arc;
+
+/// Marks a particle outside the rank's local set in [`Domain::local_of`].
+pub const NOT_LOCAL: u32 = u32::MAX;
+
+/// A rank's particles, halo and exchange plan.
+#[derive(Debug)]
+pub struct Domain {
+    comm: Arc<dyn Communicator>,
+    partition: Arc<Partition>,
+    global: Vec<u32>,
+    local_of: Vec<u32>,
+    owned: Vec<bool>,
+    complete: Vec<bool>,
+    owned_local: Vec<u32>,
+    recv: Vec<(usize, Vec<u32>)>,
+    send: Vec<(usize, Vec<u32>)>,
+    halo: [usize; 3],
+    all_owned: Vec<Vec<u32>>,
+}
+
+impl Domain {
+    /// This rank's domain for `partition` (over `comm`'s ranks) of a body with the fixed
+    /// neighbour list `list`; `extra` particles (probes) are received every exchange too.
+    /// Collective: every rank calls it.
+    ///
+    /// # Errors
+    /// A partition over another number of ranks or particles than `comm` and `list`.
+    pub fn new(
+        comm: Arc<dyn Communicator>,
+        partition: Arc<Partition>,
+        list: &NeighborList,
+        extra: &[u32],
+    ) -> Result<Self, Error> {
+        if partition.ranks() != comm.size() || partition.len() != list.len() {
+            return Err(Error::invalid(
+                "partition",
+                format!("{} ranks, {} particles", partition.ranks(), partition.len()),
+                &format!("{} ranks, {} particles", comm.size(), list.len()),
+            ));
+        }
+        let (rank, n) = (comm.rank(), list.len());
+        let (h1, h2) = partition.halo_layers(rank, list);
+        let mut mark = vec![0u8; n];
+        let all_owned: Vec<Vec<u32>> = (0..comm.size()).map(|r| partition.owned(r)).collect();
+        all_owned[rank].iter().for_each(|&i| mark[i as usize] = 1);
+        h1.iter().for_each(|&i| mark[i as usize] = 2);
+        h2.iter().for_each(|&i| mark[i as usize] = 3);
+        let mut n_extra = 0;
+        for &i in extra {
+            if mark[i as usize] == 0 {
+                mark[i as usize] = 4;
+                n_extra += 1;
+            }
+        }
+        let global: Vec<u32> = (0..n as u32).filter(|&i| mark[i as usize] != 0).collect();
+        let mut local_of = vec![NOT_LOCAL; n];
+        for (l, &g) in global.iter().enumerate() {
+            local_of[g as usize] = l as u32;
+        }
+        let owned: Vec<bool> = global.iter().map(|&g| mark[g as usize] == 1).collect();
+        let complete = global.iter().map(|&g| mark[g as usize] <= 2).collect();
+        let owned_local = (0..global.len() as u32)
+            .filter(|&l| owned[l as usize])
+            .collect();
+        // What this rank needs, by owner (ascending global ids within each).
+        let needed: Vec<u32> = global
+            .iter()
+            .copied()
+            .filter(|&g| mark[g as usize] >= 2)
+            .collect();
+        let mut recv: Vec<(usize, Vec<u32>)> = Vec::new();
+        for r in 0..comm.size() {
+            let ids: Vec<u32> = needed
+                .iter()
+                .filter(|&&g| partition.owner(g as usize) == r)
+                .map(|&g| local_of[g as usize])
+                .collect();
+            if !ids.is_empty() {
+                recv.push((r, ids));
+            }
+        }
+        // What the others need from this rank: everyone's needs, gathered once.
+        let needs = comm.all_gather(&needed.iter().map(|&g| g as f64).collect::<Vec<_>>());
+        let mut send = Vec::new();
+        for (r, need) in needs.iter().enumerate() {
+            if r == rank {
+                continue;
+            }
+            let ids: Vec<u32> = need
+                .iter()
+                .map(|&g| g as usize)
+                .filter(|&g| partition.owner(g) == rank)
+                .map(|g| local_of[g])
+                .collect();
+            if !ids.is_empty() {
+                send.push((r, ids));
+            }
+        }
+        Ok(Self {
+            comm,
+            partition,
+            global,
+            local_of,
+            owned,
+            complete,
+            owned_local,
+            recv,
+            send,
+            halo: [h1.len(), h2.len(), n_extra],
+            all_owned,
+        })
+    }
+
+    /// The communicator.
+    pub fn comm(&self) -> &dyn Communicator {
+        &*self.comm
+    }
+
+    /// The partition.
+    pub fn partition(&self) -> &Partition {
+        &self.partition
+    }
+
+    /// Global index of each local particle (ascending).
+    pub fn global(&self) -> &[u32] {
+        &self.global
+    }
+
+    /// Local index of each global particle, or [`NOT_LOCAL`].
+    pub fn local_of(&self) -> &[u32] {
+        &self.local_of
+    }
+
+    /// Whether each local particle is owned by this rank.
+    pub fn owned(&self) -> &[bool] {
+        &self.owned
+    }
+
+    /// Whether each local particle's neighbour row is complete in the local set (owned and
+    /// halo layer 1): the particles whose derived state (`F`, `Ḟ`) the rank computes.
+    pub fn complete(&self) -> &[bool] {
+        &self.complete
+    }
+
+    /// Local indices of the owned particles (ascending).
+    pub fn owned_local(&self) -> &[u32] {
+        &self.owned_local
+    }
+
+    /// Sizes of halo layer 1, layer 2 and the extra (probe) particles.
+    pub fn halo_sizes(&self) -> [usize; 3] {
+        self.halo
+    }
+
+    /// Particles received per exchange.
+    pub fn received(&self) -> usize {
+        self.recv.iter().map(|r| r.1.len()).sum()
+    }
+
+    /// Ranks this rank exchanges with (it receives from each; it sends to those that need
+    /// its particles).
+    pub fn neighbour_ranks(&self) -> Vec<usize> {
+        let mut r: Vec<usize> = self.recv.iter().map(|r| r.0).collect();
+        r.extend(self.send.iter().map(|s| s.0));
+        r.sort_unstable();
+        r.dedup();
+        r
+    }
+
+    /// Overwrites the halo entries of `values` (`width` numbers per particle) with their
+    /// owners' values: one message to and from each neighbouring rank. Collective.
+    pub fn exchange(&self, width: usize, values: &mut [f64]) {
+        let packed: Vec<Vec<f64>> = self
+            .send
+            .iter()
+            .map(|(_, ids)| {
+                let mut buf = Vec::with_capacity(ids.len() * width);
+                for &l in ids {
+                    let l = l as usize * width;
+                    buf.extend_from_slice(&values[l..l + width]);
+                }
+                buf
+            })
+            .collect();
+        let sends: Vec<(usize, &[f64])> = self
+            .send
+            .iter()
+            .zip(&packed)
+            .map(|((r, _), b)| (*r, b.as_slice()))
+            .collect();
+        let from: Vec<usize> = self.recv.iter().map(|r| r.0).collect();
+        let got = self.comm.exchange(&sends, &from);
+        for ((_, ids), buf) in self.recv.iter().zip(got) {
+            assert_eq!(buf.len(), ids.len() * width, "halo message length");
+            for (k, &l) in ids.iter().enumerate() {
+                let l = l as usize * width;
+                values[l..l + width].copy_from_slice(&buf[k * width..(k + 1) * width]);
+            }
+        }
+    }
+
+    /// [`Domain::exchange`] of vectors.
+    pub fn exchange_vectors<D: Dim>(&self, v: &mut [D::Vector]) {
+        let mut flat: Vec<f64> = v
+            .iter()
+            .flat_map(|&x| (0..D::D).map(move |k| D::component(x, k)))
+            .collect();
+        self.exchange(D::D, &mut flat);
+        for (x, c) in v.iter_mut().zip(flat.chunks_exact(D::D)) {
+            *x = D::vector([c[0], c[1], if D::D == 3 { c[2] } else { 0.0 }]);
+        }
+    }
+
+    /// The owned entries of a local field (`width` numbers per particle) from every rank, in
+    /// global particle order. Collective.
+    pub fn gather(&self, width: usize, local: &[f64]) -> Vec<f64> {
+        let mut mine = Vec::with_capacity(self.owned_local.len() * width);
+        for &l in &self.owned_local {
+            let l = l as usize * width;
+            mine.extend_from_slice(&local[l..l + width]);
+        }
+        let all = self.comm.all_gather(&mine);
+        let mut out = vec![0.0; self.partition.len() * width];
+        for (ids, vals) in self.all_owned.iter().zip(all) {
+            for (k, &g) in ids.iter().enumerate() {
+                let g = g as usize * width;
+                out[g..g + width].copy_from_slice(&vals[k * width..(k + 1) * width]);
+            }
+        }
+        out
+    }
+
+    /// [`Domain::gather`] of a field.
+    pub fn gather_field<D: Dim>(&self, field: Field<D>) -> Field<D> {
+        match field {
+            Field::Scalar(s) => Field::Scalar(self.gather(1, &s)),
+            Field::Vector(v) => Field::Vector(self.gather_vectors::<D>(&v)),
+            Field::Matrix(m) => {
+                let w = D::D * D::D;
+                let flat: Vec<f64> = m
+                    .iter()
+                    .flat_map(|&a| (0..w).map(move |k| D::matrix_get(a, k / D::D, k % D::D)))
+                    .collect();
+                let all = self.gather(w, &flat);
+                Field::Matrix(
+                    all.chunks_exact(w)
+                        .map(|c| D::matrix_from_fn(|r, k| c[r * D::D + k]))
+                        .collect(),
+                )
+            }
+        }
+    }
+
+    /// [`Domain::gather`] of vectors.
+    pub fn gather_vectors<D: Dim>(&self, v: &[D::Vector]) -> Vec<D::Vector> {
+        let flat: Vec<f64> = v
+            .iter()
+            .flat_map(|&x| (0..D::D).map(move |k| D::component(x, k)))
+            .collect();
+        self.gather(D::D, &flat)
+            .chunks_exact(D::D)
+            .map(|c| D::vector([c[0], c[1], if D::D == 3 { c[2] } else { 0.0 }]))
+            .collect()
+    }
+}
+
+/// A solver of one rank's particles presented to the run driver as the whole body: positions,
+/// velocities and fields are gathered from the ranks in global order when asked for (every rank
+/// asks at the same points of the run, so the gathers match). The wrapped solver reduces its
+/// time step, energies and momentum over the ranks itself.
+pub struct DistributedSolver<D: Dim, S: Solver<D>> {
+    inner: S,
+    domain: Arc<Domain>,
+    positions: OnceCell<Vec<D::Vector>>,
+    velocities: OnceCell<Vec<D::Vector>>,
+}
+
+impl<D: Dim, S: Solver<D>> DistributedSolver<D, S> {
+    /// Wraps the rank's solver `inner`, built on `domain`'s local particles.
+    pub fn new(inner: S, domain: Arc<Domain>) -> Self {
+        Self {
+            inner,
+            domain,
+            positions: OnceCell::new(),
+            velocities: OnceCell::new(),
+        }
+    }
+
+    /// The rank's solver.
+    pub fn local(&self) -> &S {
+        &self.inner
+    }
+
+    /// The rank's domain.
+    pub fn domain(&self) -> &Domain {
+        &self.domain
+    }
+}
+
+impl<D: Dim, S: Solver<D>> Solver<D> for DistributedSolver<D, S> {
+    fn method(&self) -> &'static str {
+        self.inner.method()
+    }
+
+    fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
+        self.positions = OnceCell::new();
+        self.velocities = OnceCell::new();
+        self.inner.step(max_dt)
+    }
+
+    fn stable_dt(&self) -> f64 {
+        self.inner.stable_dt()
+    }
+
+    fn substep_dt(&self) -> f64 {
+        self.inner.substep_dt()
+    }
+
+    fn time(&self) -> f64 {
+        self.inner.time()
+    }
+
+    fn step_count(&self) -> u64 {
+        self.inner.step_count()
+    }
+
+    fn len(&self) -> usize {
+        self.domain.partition.len()
+    }
+
+    fn positions(&self) -> &[D::Vector] {
+        self.positions
+            .get_or_init(|| self.domain.gather_vectors::<D>(self.inner.positions()))
+    }
+
+    fn velocities(&self) -> &[D::Vector] {
+        self.velocities
+            .get_or_init(|| self.domain.gather_vectors::<D>(self.inner.velocities()))
+    }
+
+    fn field_names(&self) -> Vec<&'static str> {
+        self.inner.field_names()
+    }
+
+    fn field(&self, name: &str) -> Option<Field<D>> {
+        self.inner
+            .field(name)
+            .map(|f| self.domain.gather_field::<D>(f))
+    }
+
+    fn probes(&self) -> &[Probe<D>] {
+        self.inner.probes()
+    }
+
+    fn series(&self) -> Vec<Series> {
+        self.inner.series()
+    }
+
+    fn energies(&self) -> Option<(f64, f64)> {
+        self.inner.energies()
+    }
+
+    fn momentum(&self) -> Option<glam::DVec3> {
+        self.inner.momentum()
+    }
+
+    fn energy_budget(&self) -> Option<EnergyBudget> {
+        self.inner.energy_budget()
+    }
+
+    /// Pair visits summed over the ranks, the halo layer's rows included (the work done).
+    fn pair_visits(&self) -> Option<u64> {
+        let local = self.inner.pair_visits();
+        let total = self
+            .domain
+            .comm
+            .sum(&[local.map_or(f64::NAN, |v| v as f64)]);
+        total[0].is_finite().then_some(total[0] as u64)
+    }
+
+    fn ranks(&self) -> usize {
+        self.domain.comm.size()
+    }
+
+    fn save_state(&self, _out: &mut crate::StateWriter) -> Result<(), Error> {
+        Err(Error::Checkpoint(format!(
+            "a run on {} ranks writes no checkpoints (run on one rank to checkpoint)",
+            self.domain.comm.size()
+        )))
+    }
+}

@@ -1,0 +1,188 @@
+//! One rank's TL solver in a distributed run: the fully built solver restricted to the rank's
+//! owned particles and halo ([`sph_core::distributed::Domain`]).
+//!
+//! Per step the rank exchanges one message with each neighbouring rank: the velocities of its
+//! two halo layers (and probe particles), right after the velocity update. With them it
+//! computes `Ḟ` (eq 22) of its owned particles and of halo layer 1, whose neighbours are all
+//! local, and the half-drifts of `F` and `x` follow for both, so the next force pass (eq 20–29)
+//! of an owned particle reads exactly the neighbour values the single-process run reads, in
+//! the same order: the positions are bit-identical for any rank count. Layer 2's rows are left
+//! empty (its `Ḟ` stays zero and `F` the identity; only its velocities and positions are read).
+//! Time-step maxima, the finiteness check, energies and momentum are reduced over the ranks.
+
+use super::{PairData, TlSolver};
+use sph_core::distributed::{DistributedSolver, Domain, NOT_LOCAL};
+use sph_core::{Dim, Error, NeighborList};
+use sph_materials::Material;
+use std::sync::Arc;
+
+/// Distributes a built TL solver (constraints, loads and probes attached) over `comm`'s ranks:
+/// recursive coordinate bisection of the reference configuration weighted by neighbour count
+/// ([`sph_core::decomposition`]), then this rank's share. Collective: every rank calls it with
+/// the same solver. On one rank the result steps exactly as `solver` would.
+///
+/// # Errors
+/// Tools, the pairwise relaxation, a held centre of mass or named constraints (grips) attached:
+/// these reduce over particles in ways not distributed yet; more ranks than particles.
+pub fn distribute<D: Dim, M: Material<D>>(
+    solver: TlSolver<D, M>,
+    comm: Arc<dyn sph_core::comm::Communicator>,
+) -> Result<DistributedSolver<D, TlSolver<D, M>>, Error> {
+    let partition = sph_core::decomposition::Partition::by_neighbour_count::<D>(
+        &solver.reference,
+        &solver.list,
+        comm.size(),
+    )?;
+    let mut extra = Vec::new();
+    for p in &solver.probes {
+        match &p.target {
+            sph_core::scene::ProbeTarget::Particle(i) => extra.push(*i),
+            sph_core::scene::ProbeTarget::Point { weights, .. } => {
+                extra.extend(weights.iter().map(|w| w.0))
+            }
+        }
+    }
+    let domain = Arc::new(Domain::new(
+        comm,
+        Arc::new(partition),
+        &solver.list,
+        &extra,
+    )?);
+    let local = solver.into_local(domain.clone())?;
+    Ok(DistributedSolver::new(local, domain))
+}
+
+impl<D: Dim, M: Material<D>> TlSolver<D, M> {
+    /// This solver restricted to `domain`'s particles (see the module documentation).
+    fn into_local(mut self, domain: Arc<Domain>) -> Result<Self, Error> {
+        let refuse = |what: &str| {
+            Err(Error::invalid(
+                "ranks",
+                domain.comm().size(),
+                &format!("1 for a TL run with {what} (not distributed yet)"),
+            ))
+        };
+        if !self.tools.is_empty() {
+            return refuse("rigid tools");
+        }
+        if self.relaxation.is_some() {
+            return refuse("the pairwise relaxation");
+        }
+        if self.held_axes.iter().any(|&a| a) {
+            return refuse("a held centre of mass");
+        }
+        if self.constraints.named().next().is_some() {
+            return refuse("named constraints (grips)");
+        }
+        let (global, inv) = (domain.global(), domain.local_of());
+        let pick = |g: &[D::Vector]| global.iter().map(|&i| g[i as usize]).collect::<Vec<_>>();
+        let pick_m = |g: &[D::Matrix]| global.iter().map(|&i| g[i as usize]).collect::<Vec<_>>();
+        let pick_f = |g: &[f64]| global.iter().map(|&i| g[i as usize]).collect::<Vec<_>>();
+        // Neighbour rows of the complete particles, relabelled (monotone, so still ascending);
+        // the pair ranges they come from.
+        let mut offsets = vec![0usize];
+        let mut indices = Vec::new();
+        let mut pair_ids = Vec::new();
+        for (l, &g) in global.iter().enumerate() {
+            if domain.complete()[l] {
+                for (k, &j) in self
+                    .list
+                    .range(g as usize)
+                    .zip(self.list.neighbors(g as usize))
+                {
+                    let lj = inv[j as usize];
+                    assert_ne!(lj, NOT_LOCAL, "halo layer 2 covers the rows of layer 1");
+                    indices.push(lj);
+                    pair_ids.push(k);
+                }
+            }
+            offsets.push(indices.len());
+        }
+        let pick_pairs = |v: &[f64]| pair_ids.iter().map(|&k| v[k]).collect::<Vec<_>>();
+        self.pair_data = match &self.pair_data {
+            PairData::Original => PairData::Original,
+            PairData::HourglassFree { zeta, lap } => PairData::HourglassFree {
+                zeta: *zeta,
+                lap: pick_pairs(lap),
+            },
+            PairData::Ganzenmuller { alpha, weight } => PairData::Ganzenmuller {
+                alpha: *alpha,
+                weight: pick_pairs(weight),
+            },
+        };
+        self.pairs = pair_ids.iter().map(|&k| self.pairs[k]).collect();
+        self.grad_v = pair_ids.iter().map(|&k| self.grad_v[k]).collect();
+        self.list = NeighborList::from_parts(offsets, indices)?;
+        self.reference = pick(&self.reference);
+        self.positions = pick(&self.positions);
+        self.velocities = pick(&self.velocities);
+        self.accelerations = pick(&self.accelerations);
+        self.volumes = pick_f(&self.volumes);
+        self.masses = pick_f(&self.masses);
+        self.correction = pick_m(&self.correction);
+        self.deformation = pick_m(&self.deformation);
+        self.deformation_rate = pick_m(&self.deformation_rate);
+        self.stress = pick_m(&self.stress);
+        if !self.isochoric.is_empty() {
+            self.isochoric = pick_f(&self.isochoric);
+        }
+        // Time-step maxima over the owned unconstrained particles only.
+        self.free = global
+            .iter()
+            .zip(domain.owned())
+            .map(|(&g, &o)| o && self.free[g as usize])
+            .collect();
+        self.constraints.restrict(inv);
+        self.loads.restrict(inv);
+        for p in &mut self.probes {
+            p.remap(inv);
+        }
+        self.domain = Some(domain);
+        Ok(self)
+    }
+
+    /// The largest `x` over the ranks (`x` itself on one process).
+    pub(super) fn reduce_max(&self, x: f64) -> f64 {
+        self.domain.as_ref().map_or(x, |d| d.comm().max(x))
+    }
+
+    /// The smallest `x` over the ranks (`x` itself on one process).
+    pub(super) fn reduce_min(&self, x: f64) -> f64 {
+        self.domain.as_ref().map_or(x, |d| d.comm().min(x))
+    }
+
+    /// Sums over the ranks (`x` itself on one process).
+    pub(super) fn reduce_sum(&self, x: &[f64]) -> Vec<f64> {
+        self.domain.as_ref().map_or(x.to_vec(), |d| d.comm().sum(x))
+    }
+
+    /// Whether particle `i` counts in sums over the body (the owned ones on a rank).
+    pub(super) fn counts(&self, i: usize) -> bool {
+        self.domain.as_ref().is_none_or(|d| d.owned()[i])
+    }
+
+    /// A local result that every rank must agree on: if another rank failed, this one fails
+    /// too (so no rank waits for a partner that stopped).
+    pub(super) fn agree(&self, result: Result<(), Error>) -> Result<(), Error> {
+        let Some(d) = &self.domain else {
+            return result;
+        };
+        if d.comm().all(result.is_ok()) {
+            return result;
+        }
+        result?;
+        Err(Error::invalid(
+            "state",
+            "another rank's state",
+            "finite on every rank (another rank reported the failure)",
+        ))
+    }
+
+    /// Overwrites the halo's velocities with their owners' (the step's one message per
+    /// neighbouring rank).
+    pub(super) fn exchange_velocities(&mut self) {
+        if let Some(d) = &self.domain {
+            d.exchange_vectors::<D>(&mut self.velocities);
+        }
+    }
+}
