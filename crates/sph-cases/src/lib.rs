@@ -9,6 +9,8 @@
 pub mod analysis;
 pub mod cases;
 pub mod error;
+#[cfg(feature = "mpi")]
+pub mod mpi_ranks;
 pub mod params;
 pub mod preflight;
 pub mod runner;

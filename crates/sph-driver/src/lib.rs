@@ -17,6 +17,7 @@
 pub mod checkpoint;
 pub mod error;
 pub mod guard;
+mod ranks;
 pub mod run;
 
 pub use checkpoint::{Checkpoint, CheckpointPlan, Every};

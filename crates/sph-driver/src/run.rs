@@ -88,6 +88,11 @@ pub struct RunOptions {
     /// is restored before anything is written, and the results file is re-created whole
     /// (the snapshots written before the checkpoint, then the rest of the run).
     pub resume: Option<Arc<Checkpoint>>,
+    /// The ranks of a distributed run (`None`: one process). The solver handed to [`drive`]
+    /// must then be distributed over them (a
+    /// [`DistributedSolver`](sph_core::distributed::DistributedSolver)); every rank runs the
+    /// driver, rank 0 writes the results, and checkpoints are refused.
+    pub ranks: Option<Arc<dyn sph_core::comm::Communicator>>,
 }
 
 /// A flag a signal handler sets to the signal's number (0: not interrupted).
@@ -345,6 +350,15 @@ pub fn drive<D: Dim>(
 ) -> Result<(RunRecord, Map<String, Json>), DriverError> {
     let started = Instant::now();
     check_compression(options)?;
+    if let Some(comm) = &options.ranks {
+        crate::ranks::check(
+            solver,
+            comm,
+            options.checkpoint.is_some() || options.resume.is_some(),
+        )?;
+    }
+    let comm = options.ranks.as_ref().filter(|c| c.size() > 1);
+    let root = comm.is_none_or(|c| c.rank() == 0);
     let estimate = crate::guard::Estimate::of(solver, &schedule, fields, options);
     estimate.check(&schedule, options)?;
     let mut record = RunRecord {
@@ -367,6 +381,7 @@ pub fn drive<D: Dim>(
         return Ok((record, summary));
     }
     let mut writer: Option<Box<dyn ResultWriter>> = match &options.output {
+        Some(path) if !root => Some(Box::new(crate::ranks::Discard(path.clone()))),
         Some(path) => {
             if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
                 std::fs::create_dir_all(dir).map_err(|e| DriverError::Io {
@@ -384,10 +399,12 @@ pub fn drive<D: Dim>(
         None => None,
     };
     let interrupted = || {
-        options
+        let sig = options
             .interrupt
             .as_ref()
-            .map_or(0, |f| f.load(std::sync::atomic::Ordering::SeqCst))
+            .map_or(0, |f| f.load(std::sync::atomic::Ordering::SeqCst));
+        // All ranks stop at the same point, on the first signal any of them got.
+        comm.map_or(sig, |c| c.max(sig as f64) as usize)
     };
     let report = |solver: &dyn Solver<D>, record: &RunRecord, finished: bool| {
         if let Some(sink) = &options.progress {
@@ -426,20 +443,31 @@ pub fn drive<D: Dim>(
         if t + eps >= next_snapshot {
             if let Some(w) = writer.as_mut() {
                 let sets = snapshot_datasets(solver, fields);
-                if let Err(e) = w.write_snapshot(t, solver.step_count(), &sets) {
-                    record.failure = Some(format!("writing the results: {e}"));
-                    break;
-                }
-                last_snapshot = t;
-                if options.checkpoint.is_some() {
-                    kept.push(SavedSnapshot {
-                        time: t,
-                        step: solver.step_count(),
-                        datasets: sets,
-                    });
+                match w.write_snapshot(t, solver.step_count(), &sets) {
+                    Err(e) => record.failure = Some(format!("writing the results: {e}")),
+                    Ok(()) => {
+                        last_snapshot = t;
+                        if options.checkpoint.is_some() {
+                            kept.push(SavedSnapshot {
+                                time: t,
+                                step: solver.step_count(),
+                                datasets: sets,
+                            });
+                        }
+                    }
                 }
             }
             next_snapshot = next_event(t, schedule.snapshot_interval, end);
+        }
+        if let Some(c) = comm {
+            if !c.all(record.failure.is_none()) {
+                record
+                    .failure
+                    .get_or_insert_with(|| "writing the results failed on rank 0".into());
+            }
+        }
+        if record.failure.is_some() {
+            break;
         }
         if t + eps >= end {
             break;
@@ -474,7 +502,9 @@ pub fn drive<D: Dim>(
         }
         let target = next_snapshot.min(next_monitor).min(end);
         let t0 = Instant::now();
-        let failed = steps_until(solver, target, eps, options.interrupt.as_ref());
+        // On several ranks a signal is acted on between these stretches, agreed above.
+        let own_interrupt = options.interrupt.as_ref().filter(|_| comm.is_none());
+        let failed = steps_until(solver, target, eps, own_interrupt);
         record.solver_seconds += t0.elapsed().as_secs_f64();
         report(solver, &record, false);
         if let Some(e) = failed {
@@ -496,6 +526,9 @@ pub fn drive<D: Dim>(
     record.time = solver.time();
     record.wall_seconds = started.elapsed().as_secs_f64();
     let mut summary = record.standard_summary(&meta_str(&meta, "case"), solver.method());
+    if let Some(c) = comm {
+        summary.insert("ranks".into(), json!(c.size()));
+    }
     for (k, v) in summarise(solver, &record) {
         summary.insert(k, v);
     }

@@ -357,6 +357,11 @@ impl Scene {
                         .with_relaxation(damping)
                         .map_err(|e| self.core(r.span(), "relaxation", e))?;
                 }
+                if let Some(comm) = options.ranks.as_ref().filter(|c| c.size() > 1) {
+                    let mut d = sph_tl::distribute(s, comm.clone())
+                        .map_err(|e| self.core(numerics_span.clone(), "ranks", e))?;
+                    return run(&mut d);
+                }
                 run(&mut s)
             }
             Family::Ul => {

@@ -39,7 +39,26 @@ use std::process::ExitCode;
 #[cfg(unix)]
 use std::sync::atomic::AtomicBool;
 use std::sync::atomic::AtomicUsize;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
+
+/// The ranks of a distributed run: set in `main` when the command is built with the `mpi`
+/// feature and started under `mpirun` with more than one process; emptied at the end of
+/// `main`, which finalises MPI.
+static RANKS: Mutex<Option<Arc<dyn sph_core::comm::Communicator>>> = Mutex::new(None);
+
+/// The ranks of this run, if it is distributed over more than one.
+fn ranks() -> Option<Arc<dyn sph_core::comm::Communicator>> {
+    RANKS.lock().ok()?.clone().filter(|c| c.size() > 1)
+}
+
+/// Starts MPI when the command is built with the `mpi` feature.
+fn start_ranks() -> Result<(), String> {
+    #[cfg(feature = "mpi")]
+    if let Some(r) = sph_cases::mpi_ranks::MpiRanks::initialize()? {
+        *RANKS.lock().map_err(|e| e.to_string())? = Some(Arc::new(r));
+    }
+    Ok(())
+}
 
 /// Most worker threads `--threads` accepts.
 const MAX_THREADS: usize = 1024;
@@ -154,6 +173,19 @@ struct RunArgs {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = start_ranks() {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
+    let code = command(cli);
+    // The last handle: finalises MPI.
+    if let Ok(mut r) = RANKS.lock() {
+        r.take();
+    }
+    code
+}
+
+fn command(cli: Cli) -> ExitCode {
     match cli.command {
         Command::List {
             toml: Some(case),
@@ -616,6 +648,28 @@ fn execute(
     a: Settings,
     resume_from: Option<Arc<Checkpoint>>,
 ) -> Result<ExitCode, CaseError> {
+    let ranks = ranks();
+    let root = ranks.as_ref().is_none_or(|c| c.rank() == 0);
+    if let Some(c) = &ranks {
+        let method = match &job {
+            Job::Case { method, .. } => method.to_string(),
+            Job::Scene(scene, _) => scene.method().to_string(),
+        };
+        if !matches!(method.as_str(), "tl" | "tl-hf" | "tl-gm") {
+            return Err(CaseError::Config(format!(
+                "the method {method} does not run distributed: sph was started on {} ranks \
+                 (run it on one; the total-Lagrangian methods tl, tl-hf, tl-gm run on several)",
+                c.size()
+            )));
+        }
+        if a.checkpoint_every.is_some() || resume_from.is_some() {
+            return Err(CaseError::Config(format!(
+                "checkpoints (--checkpoint-every, sph resume) need a run on one rank; sph was \
+                 started on {}",
+                c.size()
+            )));
+        }
+    }
     let backend: Backend = a.backend.parse()?;
     if !backend.is_available() {
         return Err(CaseError::Config(format!(
@@ -718,12 +772,17 @@ fn execute(
         output: results,
         backend,
         compression,
-        progress: progress_display(std::io::stderr().is_terminal(), a.log_every)?,
+        progress: if root {
+            progress_display(std::io::stderr().is_terminal(), a.log_every)?
+        } else {
+            None
+        },
         allow_long_run: a.allow_long_run,
         dry_run: a.dry_run,
         interrupt: Some(install_signal_handlers()?),
         checkpoint,
         resume: resume_from,
+        ranks,
     };
     let (record, summary) = budget::scoped(budget, || match &job {
         Job::Case {
@@ -735,6 +794,16 @@ fn execute(
             .run(&options)
             .map_err(|e| CaseError::Config(e.to_string())),
     })?;
+    if !root {
+        // Rank 0 reports; the others only say how they ended.
+        return Ok(if record.failure.is_some() {
+            ExitCode::from(1)
+        } else if let Some(sig) = record.interrupted {
+            ExitCode::from((128 + sig).min(255) as u8)
+        } else {
+            ExitCode::SUCCESS
+        });
+    }
     if let (Some(path), false) = (&a.summary, a.dry_run) {
         let text = serde_json::to_string_pretty(&Json::Object(summary.clone()))
             .expect("summary serialises");

@@ -182,10 +182,22 @@ where
         "guarded_particles".into(),
         json!(solver.guarded_particles()),
     );
+    let schedule = schedule(p, end_time);
+    if let Some(comm) = options.ranks.as_ref().filter(|c| c.size() > 1) {
+        let mut solver = sph_tl::distribute(solver, comm.clone())?;
+        return Ok(drive::<D>(
+            &mut solver,
+            meta,
+            schedule,
+            TL_FIELDS,
+            options,
+            summarise,
+        )?);
+    }
     Ok(drive::<D>(
         &mut solver,
         meta,
-        schedule(p, end_time),
+        schedule,
         TL_FIELDS,
         options,
         summarise,
