@@ -1,8 +1,10 @@
 //! `sph run` under `mpirun` (feature `mpi`; run by crates/sph-cases/mpi-ci.sh): the results of a
-//! TL-HF bending column on 2 and 3 ranks equal the single-rank run's bit for bit (every
-//! snapshot field, the probe), and methods that do not run distributed are refused.
+//! TL-HF bending column and of the MPS cantilever plate on 2 and 3 ranks equal the single-rank
+//! run's bit for bit (every snapshot field, the probes), and what does not run distributed is
+//! refused.
 #![cfg(feature = "mpi")]
 
+use sph_output::FileContents;
 use std::path::Path;
 use std::process::Command;
 
@@ -19,42 +21,41 @@ fn mpirun(ranks: usize, args: &[&str]) -> std::process::Output {
         .expect("mpirun starts")
 }
 
-fn column(ranks: usize, out: &Path) -> sph_output::FileContents {
-    let o = mpirun(
-        ranks,
-        &[
-            "run",
-            "bending-column-3d",
-            "--method",
-            "tl-hf",
-            "--set",
-            "resolution=4",
-            "--set",
-            "end_time=0.02",
-            "--threads",
-            "1",
-            "--log-every",
-            "0",
-            "--out",
-            out.to_str().expect("utf-8 path"),
-        ],
-    );
+/// Runs `case` with `method` on `ranks` ranks into `out` and reads the results.
+fn run(ranks: usize, case: &str, method: &str, sets: &[&str], out: &Path) -> FileContents {
+    let mut args = vec![
+        "run",
+        case,
+        "--method",
+        method,
+        "--threads",
+        "1",
+        "--log-every",
+        "0",
+    ];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    args.extend(["--out", out.to_str().expect("utf-8 path")]);
+    let o = mpirun(ranks, &args);
     assert!(
         o.status.success(),
         "{ranks} ranks: {}\n{}",
         String::from_utf8_lossy(&o.stdout),
         String::from_utf8_lossy(&o.stderr)
     );
-    sph_output::read_file(out.join("bending-column-3d-tl-hf.h5")).expect("results")
+    sph_output::read_file(out.join(format!("{case}-{method}.h5"))).expect("results")
 }
 
-#[test]
-fn two_and_three_ranks_write_the_single_rank_results_bit_for_bit() {
-    let dir = std::env::temp_dir().join(format!("sph-mpi-test-{}", std::process::id()));
-    let one = column(1, &dir.join("1"));
-    assert_eq!(one.snapshots.len(), 51);
+/// Runs `case` on 1, 2 and 3 ranks and checks that every snapshot field and every probe of the
+/// 2- and 3-rank runs equal the single-rank run's bit for bit, and the energy drift (a sum
+/// over the ranks) to round-off.
+fn same_results_on_1_2_3_ranks(case: &str, method: &str, sets: &[&str], snapshots: usize) {
+    let dir = std::env::temp_dir().join(format!("sph-mpi-{case}-{}", std::process::id()));
+    let one = run(1, case, method, sets, &dir.join("1"));
+    assert_eq!(one.snapshots.len(), snapshots);
     for ranks in [2, 3] {
-        let many = column(ranks, &dir.join(ranks.to_string()));
+        let many = run(ranks, case, method, sets, &dir.join(ranks.to_string()));
         assert_eq!(many.summary.get("ranks"), Some(&ranks.into()));
         assert_eq!(many.snapshots.len(), one.snapshots.len());
         for (a, b) in one.snapshots.iter().zip(&many.snapshots) {
@@ -69,14 +70,42 @@ fn two_and_three_ranks_write_the_single_rank_results_bit_for_bit() {
                 );
             }
         }
-        let (p, q) = (&one.probes["S"], &many.probes["S"]);
-        assert!(p.positions == q.positions && p.velocities == q.velocities);
-        // Energies are sums over the ranks: equal to round-off.
-        let e = |f: &sph_output::FileContents| f.summary["energy_drift"].as_f64();
+        assert_eq!(
+            one.probes.keys().collect::<Vec<_>>(),
+            many.probes.keys().collect::<Vec<_>>()
+        );
+        for (name, p) in &one.probes {
+            let q = &many.probes[name];
+            assert!(
+                p.positions == q.positions && p.velocities == q.velocities,
+                "probe {name}"
+            );
+        }
+        let e = |f: &FileContents| f.summary["energy_drift"].as_f64();
         let (x, y) = (e(&one).expect("drift"), e(&many).expect("drift"));
         assert!((x - y).abs() <= 1e-9 * x.abs(), "energy drift {x} vs {y}");
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_tl_hf_bending_column_on_2_and_3_ranks_writes_the_single_rank_results() {
+    same_results_on_1_2_3_ranks(
+        "bending-column-3d",
+        "tl-hf",
+        &["resolution=4", "end_time=0.02"],
+        51,
+    );
+}
+
+#[test]
+fn the_mps_cantilever_plate_on_2_and_3_ranks_writes_the_single_rank_results() {
+    same_results_on_1_2_3_ranks(
+        "cantilever-plate-2d",
+        "mps",
+        &["resolution=4", "end_time=0.01"],
+        51,
+    );
 }
 
 #[test]

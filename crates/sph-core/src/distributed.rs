@@ -129,6 +129,64 @@ impl Domain {
         })
     }
 
+    /// The domain of this rank for a body with reference positions `reference` and the fixed
+    /// neighbour list `list`: RCB weighted by neighbour count
+    /// ([`Partition::by_neighbour_count`]), the particles `probes` read received too.
+    /// Collective.
+    ///
+    /// # Errors
+    /// More ranks than particles.
+    pub fn for_body<D: Dim>(
+        comm: Arc<dyn Communicator>,
+        reference: &[D::Vector],
+        list: &NeighborList,
+        probes: &[Probe<D>],
+    ) -> Result<Arc<Self>, Error> {
+        let partition = Partition::by_neighbour_count::<D>(reference, list, comm.size())?;
+        let mut extra = Vec::new();
+        for p in probes {
+            match &p.target {
+                crate::scene::ProbeTarget::Particle(i) => extra.push(*i),
+                crate::scene::ProbeTarget::Point { weights, .. } => {
+                    extra.extend(weights.iter().map(|w| w.0))
+                }
+            }
+        }
+        Ok(Arc::new(Self::new(
+            comm,
+            Arc::new(partition),
+            list,
+            &extra,
+        )?))
+    }
+
+    /// The local rows of the global neighbour list `list`: the rows of the complete particles
+    /// (owned and halo layer 1) relabelled to local indices (a monotone map, so each row keeps
+    /// its order), empty rows for the others; and for each local pair the index of its global
+    /// pair (to pick per-pair data with).
+    pub fn local_rows(&self, list: &NeighborList) -> Result<(NeighborList, Vec<usize>), Error> {
+        let mut offsets = vec![0usize];
+        let mut indices = Vec::new();
+        let mut pair_ids = Vec::new();
+        for (l, &g) in self.global.iter().enumerate() {
+            if self.complete[l] {
+                for (k, &j) in list.range(g as usize).zip(list.neighbors(g as usize)) {
+                    let lj = self.local_of[j as usize];
+                    assert_ne!(lj, NOT_LOCAL, "halo layer 2 covers the rows of layer 1");
+                    indices.push(lj);
+                    pair_ids.push(k);
+                }
+            }
+            offsets.push(indices.len());
+        }
+        Ok((NeighborList::from_parts(offsets, indices)?, pair_ids))
+    }
+
+    /// The local particles' entries of a per-particle array of the whole body.
+    pub fn pick<T: Copy>(&self, global: &[T]) -> Vec<T> {
+        self.global.iter().map(|&i| global[i as usize]).collect()
+    }
+
     /// The communicator.
     pub fn comm(&self) -> &dyn Communicator {
         &*self.comm

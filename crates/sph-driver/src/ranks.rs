@@ -22,7 +22,7 @@ pub(crate) fn check<D: Dim>(
     if n > 1 && solver.ranks() != n {
         return Err(DriverError::Config(format!(
             "the method {} does not run distributed: it was started on {n} ranks (run it on one; \
-             the total-Lagrangian methods tl, tl-hf, tl-gm run on several)",
+             tl, tl-hf, tl-gm and mps run on several)",
             solver.method()
         )));
     }

@@ -50,5 +50,5 @@ pub mod wls;
 
 pub use contact::Contact;
 pub use pressure::{PressureFunction, SurfacePressure};
-pub use solver::{Energy, Integrator, MpsParams, MpsSolver};
+pub use solver::{distribute, Energy, Integrator, MpsParams, MpsSolver};
 pub use wls::Fit;

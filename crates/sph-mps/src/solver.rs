@@ -22,6 +22,10 @@ use sph_core::{
     Body, Constraints, Dim, Error, Field, Loads, NeighborList, PairKernel, Probe, Solver, StepInfo,
 };
 use sph_materials::{von_mises, Material};
+use std::sync::Arc;
+
+mod local;
+pub use local::distribute;
 
 /// The symplectic time integrator.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -154,6 +158,8 @@ pub struct MpsSolver<D: Dim, M: Material<D>> {
     schedule: ProbeSchedule,
     time: f64,
     steps: u64,
+    /// This rank's share of a distributed run (`None` on one process; see [`distribute`]).
+    domain: Option<Arc<sph_core::distributed::Domain>>,
 }
 
 impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
@@ -305,6 +311,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             schedule: ProbeSchedule::every(0.0)?,
             time: 0.0,
             steps: 0,
+            domain: None,
         };
         solver.refresh();
         Ok(solver)
@@ -401,6 +408,20 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             &mut self.deformation,
             &mut self.stress_term,
         );
+        if let Some(d) = &self.domain {
+            // Halo layer 2 has no neighbour rows here: `F` and `T` of the identity, which no
+            // owned particle reads (its forces are its owner's).
+            for ((f, t), &complete) in self
+                .deformation
+                .iter_mut()
+                .zip(&mut self.stress_term)
+                .zip(d.complete())
+            {
+                if !complete {
+                    (*f, *t) = (D::identity(), D::zero_matrix());
+                }
+            }
+        }
         if let Some(st) = &self.stabilisation {
             self.stabilisation_energy = st.add_stress_terms(
                 &self.list,
@@ -516,11 +537,13 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// would allow (the blow-up guard of `step`; NaN if a speed or acceleration is NaN).
     fn state_dt(&self) -> f64 {
         let max = |v: &[D::Vector]| {
-            v.par_iter()
+            let local = v
+                .par_iter()
                 .with_min_len(MIN_PARTICLES_PER_TASK)
                 .map(|&x| D::norm_squared(x))
                 .reduce(|| 0.0, diagnostics::max_or_nan)
-                .sqrt()
+                .sqrt();
+            self.reduce_max_or_nan(local)
         };
         let (speed, accel) = (max(&self.velocities), max(&self.accelerations));
         let acoustic = self.dp / (self.sound_speed + speed);
@@ -620,12 +643,38 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
 
     /// Total linear momentum `Σ m v`.
     pub fn linear_momentum(&self) -> D::Vector {
-        diagnostics::linear_momentum::<D>(&self.velocities, &self.masses)
+        let p = diagnostics::linear_momentum::<D>(&self.velocities, &self.counted_masses());
+        if self.domain.is_none() {
+            return p;
+        }
+        let v = D::to_vec3(p);
+        let s = self.reduce_sum(&[v.x, v.y, v.z]);
+        D::vector([s[0], s[1], s[2]])
     }
 
     /// Total angular momentum `Σ m x × v` about the origin (3-vector; only `z` in 2D).
     pub fn angular_momentum(&self) -> glam::DVec3 {
-        diagnostics::angular_momentum::<D>(&self.positions, &self.velocities, &self.masses)
+        let l = diagnostics::angular_momentum::<D>(
+            &self.positions,
+            &self.velocities,
+            &self.counted_masses(),
+        );
+        let s = self.reduce_sum(&[l.x, l.y, l.z]);
+        glam::DVec3::new(s[0], s[1], s[2])
+    }
+
+    /// The masses of the particles that count in sums over the body (zero for a rank's halo).
+    fn counted_masses(&self) -> std::borrow::Cow<'_, [f64]> {
+        match &self.domain {
+            None => std::borrow::Cow::Borrowed(&self.masses),
+            Some(d) => std::borrow::Cow::Owned(
+                self.masses
+                    .iter()
+                    .zip(d.owned())
+                    .map(|(&m, &o)| if o { m } else { 0.0 })
+                    .collect(),
+            ),
+        }
     }
 
     /// Adds penalty contact between the bodies of this solver (see [`crate::contact`]).
@@ -646,7 +695,12 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
 
     /// Kinetic energy `Σ ½ m v²`, strain energy `Σ V ψ(F)` (with the contact potential) and the
     /// stabilisation potential of the current state.
+    ///
+    /// In a distributed run: summed over the ranks' owned particles.
     pub fn energy(&self) -> Energy {
+        if self.domain.is_some() {
+            return self.distributed_energy();
+        }
         let kinetic = diagnostics::kinetic_energy::<D>(&self.velocities, &self.masses);
         let strain = self
             .deformation
@@ -659,6 +713,35 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             kinetic,
             strain,
             stabilisation: self.stabilisation_energy,
+        }
+    }
+
+    /// [`MpsSolver::energy`] over the owned particles of every rank (no contact: refused).
+    fn distributed_energy(&self) -> Energy {
+        let owned = |i: &usize| self.counts(*i);
+        let n = self.len();
+        let kinetic: f64 = (0..n)
+            .filter(owned)
+            .map(|i| 0.5 * self.masses[i] * D::norm_squared(self.velocities[i]))
+            .sum();
+        let strain: f64 = (0..n)
+            .filter(owned)
+            .map(|i| {
+                self.volumes[i]
+                    * self
+                        .material
+                        .strain_energy_density(self.deformation[i])
+                        .unwrap_or(f64::NAN)
+            })
+            .sum();
+        let stabilisation: f64 = self
+            .stabilisation_energies()
+            .map_or(0.0, |e| (0..n).filter(owned).map(|i| e[i]).sum());
+        let s = self.reduce_sum(&[kinetic, strain, stabilisation]);
+        Energy {
+            kinetic: s[0],
+            strain: s[1],
+            stabilisation: s[2],
         }
     }
 
@@ -728,7 +811,8 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
             }
         }
         self.steps += 1;
-        self.check_finite()?;
+        self.exchange_halo();
+        self.agree(self.check_finite())?;
         if !self.probes.is_empty() && self.schedule.due(self.time) {
             self.record_probes();
         }

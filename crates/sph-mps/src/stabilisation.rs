@@ -65,6 +65,14 @@ impl<D: Dim> Stabilisation<D> {
         })
     }
 
+    /// The constants of one rank's particles ([`sph_core::distributed::Domain::pick`]) and
+    /// pairs (`pair_ids`: the global pair of each local one).
+    pub fn restrict(&mut self, domain: &sph_core::distributed::Domain, pair_ids: &[usize]) {
+        self.scale = domain.pick(&self.scale);
+        self.pair = pair_ids.iter().map(|&k| self.pair[k]).collect();
+        self.reference = pair_ids.iter().map(|&k| self.reference[k]).collect();
+    }
+
     /// `r_ij = x_ij − F_i X_ij` of pair `k` of particle `i` (neighbour `j`).
     #[inline(always)]
     fn residual(&self, k: usize, xi: D::Vector, xj: D::Vector, fi: D::Matrix) -> D::Vector {

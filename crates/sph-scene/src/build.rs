@@ -489,6 +489,11 @@ impl Scene {
                 let mut s = s
                     .with_probes(probes, probe_interval)
                     .map_err(|e| self.core(numerics_span.clone(), "output.probe_interval", e))?;
+                if let Some(comm) = options.ranks.as_ref().filter(|c| c.size() > 1) {
+                    let mut d = sph_mps::distribute(s, comm.clone())
+                        .map_err(|e| self.core(numerics_span.clone(), "ranks", e))?;
+                    return run(&mut d);
+                }
                 run(&mut s)
             }
         }

@@ -655,10 +655,10 @@ fn execute(
             Job::Case { method, .. } => method.to_string(),
             Job::Scene(scene, _) => scene.method().to_string(),
         };
-        if !matches!(method.as_str(), "tl" | "tl-hf" | "tl-gm") {
+        if !matches!(method.as_str(), "tl" | "tl-hf" | "tl-gm" | "mps") {
             return Err(CaseError::Config(format!(
                 "the method {method} does not run distributed: sph was started on {} ranks \
-                 (run it on one; the total-Lagrangian methods tl, tl-hf, tl-gm run on several)",
+                 (run it on one; tl, tl-hf, tl-gm and mps run on several)",
                 c.size()
             )));
         }

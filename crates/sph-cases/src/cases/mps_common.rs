@@ -128,10 +128,22 @@ where
         json!(solver.guarded_particles()),
     );
     meta.insert("re".into(), json!(solver.re()));
+    let schedule = schedule(p, end_time);
+    if let Some(comm) = options.ranks.as_ref().filter(|c| c.size() > 1) {
+        let mut solver = sph_mps::distribute(solver, comm.clone())?;
+        return Ok(drive::<D>(
+            &mut solver,
+            meta,
+            schedule,
+            MPS_FIELDS,
+            options,
+            summarise,
+        )?);
+    }
     Ok(drive::<D>(
         &mut solver,
         meta,
-        schedule(p, end_time),
+        schedule,
         MPS_FIELDS,
         options,
         summarise,

@@ -11,8 +11,8 @@
 //! Time-step maxima, the finiteness check, energies and momentum are reduced over the ranks.
 
 use super::{PairData, TlSolver};
-use sph_core::distributed::{DistributedSolver, Domain, NOT_LOCAL};
-use sph_core::{Dim, Error, NeighborList};
+use sph_core::distributed::{DistributedSolver, Domain};
+use sph_core::{Dim, Error};
 use sph_materials::Material;
 use std::sync::Arc;
 
@@ -28,26 +28,7 @@ pub fn distribute<D: Dim, M: Material<D>>(
     solver: TlSolver<D, M>,
     comm: Arc<dyn sph_core::comm::Communicator>,
 ) -> Result<DistributedSolver<D, TlSolver<D, M>>, Error> {
-    let partition = sph_core::decomposition::Partition::by_neighbour_count::<D>(
-        &solver.reference,
-        &solver.list,
-        comm.size(),
-    )?;
-    let mut extra = Vec::new();
-    for p in &solver.probes {
-        match &p.target {
-            sph_core::scene::ProbeTarget::Particle(i) => extra.push(*i),
-            sph_core::scene::ProbeTarget::Point { weights, .. } => {
-                extra.extend(weights.iter().map(|w| w.0))
-            }
-        }
-    }
-    let domain = Arc::new(Domain::new(
-        comm,
-        Arc::new(partition),
-        &solver.list,
-        &extra,
-    )?);
+    let domain = Domain::for_body::<D>(comm, &solver.reference, &solver.list, &solver.probes)?;
     let local = solver.into_local(domain.clone())?;
     Ok(DistributedSolver::new(local, domain))
 }
@@ -74,30 +55,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         if self.constraints.named().next().is_some() {
             return refuse("named constraints (grips)");
         }
-        let (global, inv) = (domain.global(), domain.local_of());
-        let pick = |g: &[D::Vector]| global.iter().map(|&i| g[i as usize]).collect::<Vec<_>>();
-        let pick_m = |g: &[D::Matrix]| global.iter().map(|&i| g[i as usize]).collect::<Vec<_>>();
-        let pick_f = |g: &[f64]| global.iter().map(|&i| g[i as usize]).collect::<Vec<_>>();
-        // Neighbour rows of the complete particles, relabelled (monotone, so still ascending);
-        // the pair ranges they come from.
-        let mut offsets = vec![0usize];
-        let mut indices = Vec::new();
-        let mut pair_ids = Vec::new();
-        for (l, &g) in global.iter().enumerate() {
-            if domain.complete()[l] {
-                for (k, &j) in self
-                    .list
-                    .range(g as usize)
-                    .zip(self.list.neighbors(g as usize))
-                {
-                    let lj = inv[j as usize];
-                    assert_ne!(lj, NOT_LOCAL, "halo layer 2 covers the rows of layer 1");
-                    indices.push(lj);
-                    pair_ids.push(k);
-                }
-            }
-            offsets.push(indices.len());
-        }
+        let (list, pair_ids) = domain.local_rows(&self.list)?;
         let pick_pairs = |v: &[f64]| pair_ids.iter().map(|&k| v[k]).collect::<Vec<_>>();
         self.pair_data = match &self.pair_data {
             PairData::Original => PairData::Original,
@@ -112,7 +70,11 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         };
         self.pairs = pair_ids.iter().map(|&k| self.pairs[k]).collect();
         self.grad_v = pair_ids.iter().map(|&k| self.grad_v[k]).collect();
-        self.list = NeighborList::from_parts(offsets, indices)?;
+        self.list = list;
+        let (global, inv, d) = (domain.global(), domain.local_of(), &*domain);
+        let pick = |v: &[D::Vector]| d.pick(v);
+        let pick_m = |v: &[D::Matrix]| d.pick(v);
+        let pick_f = |v: &[f64]| d.pick(v);
         self.reference = pick(&self.reference);
         self.positions = pick(&self.positions);
         self.velocities = pick(&self.velocities);

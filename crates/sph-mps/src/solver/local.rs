@@ -1,0 +1,156 @@
+//! One rank's MPS solver in a distributed run: the fully built solver restricted to the rank's
+//! owned particles and halo ([`sph_core::distributed::Domain`]).
+//!
+//! The force on an owned particle reads `T_j` (eq 7) of its neighbours, and `T_j` reads `F_j`
+//! (eq 4), the positions of `j`'s neighbours: a rank keeps two halo layers, computes `F` and
+//! `T` for its owned particles and layer 1 (whose neighbour rows are complete), and at the end
+//! of each step receives the velocities and accelerations of both layers (and of the probe
+//! particles) from their owners, in one message per neighbouring rank. Its halo then kicks and
+//! drifts exactly as the owners do, so every owned particle sees the neighbour values of the
+//! single-process run in the same order: positions are bit-identical for any rank count.
+//! The blow-up guard's maxima, the finiteness check, energies and momentum are reduced over
+//! the ranks.
+
+use super::MpsSolver;
+use sph_core::distributed::{DistributedSolver, Domain};
+use sph_core::{Dim, Error};
+use sph_materials::Material;
+use std::sync::Arc;
+
+/// Distributes a built MPS solver (constraints, loads, surface pressures and probes attached)
+/// over `comm`'s ranks: recursive coordinate bisection of the reference configuration weighted
+/// by neighbour count ([`sph_core::decomposition`]), then this rank's share. Collective: every
+/// rank calls it with the same solver. On one rank the result steps exactly as `solver` would.
+///
+/// # Errors
+/// Contact attached (its search is over the current configuration; not distributed yet);
+/// more ranks than particles.
+pub fn distribute<D: Dim, M: Material<D>>(
+    solver: MpsSolver<D, M>,
+    comm: Arc<dyn sph_core::comm::Communicator>,
+) -> Result<DistributedSolver<D, MpsSolver<D, M>>, Error> {
+    if solver.contact.is_some() {
+        return Err(Error::invalid(
+            "ranks",
+            comm.size(),
+            "1 for an MPS run with contact (not distributed yet)",
+        ));
+    }
+    let domain = Domain::for_body::<D>(comm, &solver.reference, &solver.list, &solver.probes)?;
+    let local = solver.into_local(domain.clone())?;
+    Ok(DistributedSolver::new(local, domain))
+}
+
+impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
+    /// This solver restricted to `domain`'s particles (see the module documentation).
+    fn into_local(mut self, domain: Arc<Domain>) -> Result<Self, Error> {
+        let (list, pair_ids) = domain.local_rows(&self.list)?;
+        let d = &*domain;
+        let pairs = |v: &[D::Vector]| pair_ids.iter().map(|&k| v[k]).collect::<Vec<_>>();
+        self.g = pairs(&self.g);
+        self.g_rev = pairs(&self.g_rev);
+        self.ref_pairs = pair_ids.iter().map(|&k| self.ref_pairs[k]).collect();
+        if let Some(st) = &mut self.stabilisation {
+            st.restrict(d, &pair_ids);
+        }
+        self.list = list;
+        self.reference = d.pick(&self.reference);
+        self.volumes = d.pick(&self.volumes);
+        self.masses = d.pick(&self.masses);
+        self.inv_masses = d.pick(&self.inv_masses);
+        self.a_inv = d.pick(&self.a_inv);
+        self.positions = d.pick(&self.positions);
+        self.velocities = d.pick(&self.velocities);
+        self.deformation = d.pick(&self.deformation);
+        self.stress_term = d.pick(&self.stress_term);
+        self.forces = d.pick(&self.forces);
+        self.accelerations = d.pick(&self.accelerations);
+        self.scratch = d.pick(&self.scratch);
+        let inv = d.local_of();
+        self.constraints.restrict(inv);
+        self.loads.restrict(inv);
+        for sp in &mut self.pressures {
+            let (particles, normals): (Vec<u32>, Vec<D::Vector>) = sp
+                .particles
+                .iter()
+                .zip(&sp.area_normal)
+                .filter(|(&i, _)| inv[i as usize] != sph_core::distributed::NOT_LOCAL)
+                .map(|(&i, &n)| (inv[i as usize], n))
+                .unzip();
+            (sp.particles, sp.area_normal) = (particles, normals);
+        }
+        for p in &mut self.probes {
+            p.remap(inv);
+        }
+        self.domain = Some(domain);
+        Ok(self)
+    }
+
+    /// The largest `x` over the ranks, NaN if it is NaN on any (`x` itself on one process).
+    pub(super) fn reduce_max_or_nan(&self, x: f64) -> f64 {
+        match &self.domain {
+            None => x,
+            Some(d) => {
+                let m = d.comm().max(if x.is_nan() { f64::INFINITY } else { x });
+                let any_nan = !d.comm().all(!x.is_nan());
+                if any_nan {
+                    f64::NAN
+                } else {
+                    m
+                }
+            }
+        }
+    }
+
+    /// Sums over the ranks (`x` itself on one process).
+    pub(super) fn reduce_sum(&self, x: &[f64]) -> Vec<f64> {
+        self.domain.as_ref().map_or(x.to_vec(), |d| d.comm().sum(x))
+    }
+
+    /// Whether particle `i` counts in sums over the body (the owned ones on a rank).
+    pub(super) fn counts(&self, i: usize) -> bool {
+        self.domain.as_ref().is_none_or(|d| d.owned()[i])
+    }
+
+    /// A local result that every rank must agree on: if another rank failed, this one fails
+    /// too (so no rank waits for a partner that stopped).
+    pub(super) fn agree(&self, result: Result<(), Error>) -> Result<(), Error> {
+        let Some(d) = &self.domain else {
+            return result;
+        };
+        if d.comm().all(result.is_ok()) {
+            return result;
+        }
+        result?;
+        Err(Error::invalid(
+            "state",
+            "another rank's state",
+            "finite on every rank (another rank reported the failure)",
+        ))
+    }
+
+    /// Overwrites the halo's velocities and accelerations with their owners' (the step's one
+    /// message per neighbouring rank).
+    pub(super) fn exchange_halo(&mut self) {
+        let Some(d) = &self.domain else {
+            return;
+        };
+        let w = D::D;
+        let mut flat = Vec::with_capacity(self.velocities.len() * 2 * w);
+        for (&v, &a) in self.velocities.iter().zip(&self.accelerations) {
+            flat.extend((0..w).map(|k| D::component(v, k)));
+            flat.extend((0..w).map(|k| D::component(a, k)));
+        }
+        d.exchange(2 * w, &mut flat);
+        let vec = |c: &[f64]| D::vector([c[0], c[1], if w == 3 { c[2] } else { 0.0 }]);
+        for ((v, a), c) in self
+            .velocities
+            .iter_mut()
+            .zip(&mut self.accelerations)
+            .zip(flat.chunks_exact(2 * w))
+        {
+            *v = vec(&c[..w]);
+            *a = vec(&c[w..]);
+        }
+    }
+}
