@@ -134,6 +134,50 @@ impl Partition {
         let layer = |k: u8| (0..n as u32).filter(|&i| mark[i as usize] == k).collect();
         (layer(2), layer(3))
     }
+
+    /// For every rank at once: the sizes of its halo layers 1 and 2 ([`Partition::halo_layers`])
+    /// and the number of ranks owning particles of them (the ranks it receives from). For the
+    /// communication model of docs/distributed-model.md: cost grows with the halo, not with
+    /// the number of particles times the number of ranks.
+    pub fn halo_counts(&self, list: &NeighborList) -> Vec<[usize; 3]> {
+        let n = self.owner.len();
+        let mut layer1: Vec<Vec<u32>> = vec![Vec::new(); self.ranks];
+        for i in 0..n {
+            let o = self.owner[i];
+            for &j in list.neighbors(i) {
+                if self.owner[j as usize] != o {
+                    layer1[o as usize].push(j);
+                }
+            }
+        }
+        layer1.iter_mut().for_each(|h| {
+            h.sort_unstable();
+            h.dedup();
+        });
+        layer1
+            .iter()
+            .enumerate()
+            .map(|(r, h1)| {
+                let mut h2: Vec<u32> = h1
+                    .iter()
+                    .flat_map(|&j| list.neighbors(j as usize).iter().copied())
+                    .filter(|&k| {
+                        self.owner[k as usize] as usize != r && h1.binary_search(&k).is_err()
+                    })
+                    .collect();
+                h2.sort_unstable();
+                h2.dedup();
+                let mut from: Vec<u32> = h1
+                    .iter()
+                    .chain(&h2)
+                    .map(|&j| self.owner[j as usize])
+                    .collect();
+                from.sort_unstable();
+                from.dedup();
+                [h1.len(), h2.len(), from.len()]
+            })
+            .collect()
+    }
 }
 
 /// Splits `ids` over ranks `first..first + k`.
@@ -272,6 +316,23 @@ mod tests {
         for &i in &h2 {
             assert!(!h1.contains(&i) && p.owner(i as usize) == 1);
             assert!(list.neighbors(i as usize).iter().any(|j| h1.contains(j)));
+        }
+    }
+
+    #[test]
+    fn halo_counts_agree_with_the_layers_of_each_rank() {
+        let x = block(7, 5, 9);
+        let list = CellGrid::<D3>::build(&x, 2.3)
+            .unwrap()
+            .neighbor_list(&x, 2.3)
+            .unwrap();
+        let p = Partition::by_neighbour_count::<D3>(&x, &list, 5).unwrap();
+        for (r, c) in p.halo_counts(&list).into_iter().enumerate() {
+            let (h1, h2) = p.halo_layers(r, &list);
+            let mut from: Vec<usize> = h1.iter().chain(&h2).map(|&j| p.owner(j as usize)).collect();
+            from.sort_unstable();
+            from.dedup();
+            assert_eq!(c, [h1.len(), h2.len(), from.len()], "rank {r}");
         }
     }
 
