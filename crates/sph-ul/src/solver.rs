@@ -79,8 +79,10 @@ pub struct UlParams {
     /// uses `B` (eq 26).
     pub corrected_velocity_gradient: bool,
     /// ENOG: integrate the shear stress for output (eq 6–8 with eq 26; it never feeds back into
-    /// the motion). Off saves one matrix per pair per sub-step; `von_mises` then shows the
-    /// pressure part only.
+    /// the motion). Off saves one matrix per pair per sub-step (a quarter of the 2D plate's
+    /// time); `von_mises` then shows the pressure part only and the energy budget uses the
+    /// exact shear work instead of the estimate from `τ`. The `sph` cases and scene files turn
+    /// it on exactly when snapshots are written.
     pub track_shear_stress: bool,
     /// Reorder particles in cell order at rebuilds (cache locality; default true).
     pub reorder: bool,
