@@ -1,6 +1,7 @@
 //! Per-pair kernel data aligned with a [`NeighborList`]: distance, unit vector, `W` and `W′`.
 //! Total-Lagrangian methods compute it once in the reference configuration; updated-Lagrangian
-//! methods once per neighbour rebuild (frozen over the acoustic sub-steps).
+//! methods after every neighbour rebuild and, by default, again in every acoustic sub-step
+//! ([`PairSymmetry::fill`] computes each unordered pair once there).
 
 use crate::dim::Dim;
 use crate::kernel::Kernel;
@@ -72,11 +73,333 @@ pub fn fill_pair_kernels<D: Dim, K: Kernel>(
         let start = list.offsets()[i];
         let neighbours = &indices[start..start + slots.len()];
         for (slot, &j) in slots.iter_mut().zip(neighbours) {
-            let d = xi - targets[j as usize];
-            let r = D::norm(d);
-            let e = if r > 0.0 { d / r } else { D::zero() };
-            let (w, dw) = kernel.w_and_dw_dr(r);
-            *slot = PairKernel { e, r, w, dw };
+            *slot = pair_kernel::<D, K>(xi - targets[j as usize], kernel);
         }
     });
+}
+
+/// Kernel data of the pair whose separation is `d = x_i − x_j`: the one formula behind every
+/// fill in this module.
+#[inline(always)]
+fn pair_kernel<D: Dim, K: Kernel>(d: D::Vector, kernel: &K) -> PairKernel<D> {
+    let r = D::norm(d);
+    let e = if r > 0.0 { d / r } else { D::zero() };
+    let (w, dw) = kernel.w_and_dw_dr(r);
+    PairKernel { e, r, w, dw }
+}
+
+/// The data of the reversed pair `(j, i)` from that of `(i, j)`: the same `r`, `W`, `W′` and
+/// `e_ji = −e_ij`. Bit for bit what [`pair_kernel`] gives for `−d` (IEEE subtraction, the
+/// norm and the division are sign-symmetric); the zero vector of coincident particles stays
+/// positive, as [`pair_kernel`] makes it.
+#[inline(always)]
+fn reversed<D: Dim>(p: PairKernel<D>) -> PairKernel<D> {
+    PairKernel {
+        e: if p.r > 0.0 { -p.e } else { D::zero() },
+        ..p
+    }
+}
+
+/// The two halves of a symmetric self list (`j` is a neighbour of `i` exactly when `i` is a
+/// neighbour of `j`; rows in any order): the slots `(i, j ≥ i)`, whose kernel data are
+/// computed, and the slots `(i, j < i)`, which receive the reversed data of their mirror
+/// `(j, i)`. Built once per neighbour list in one pass over its pairs; [`Self::fill`] then
+/// does the work of [`fill_pair_kernels`] with half the square roots, divisions and kernel
+/// evaluations, bit for bit the same result.
+///
+/// # Example
+/// ```
+/// use sph_core::dim::{Dim, D2};
+/// use sph_core::kernel::{Kernel, WendlandC2};
+/// use sph_core::neighbor::CellGrid;
+/// use sph_core::pairs::{pair_kernels, PairSymmetry};
+///
+/// let x: Vec<_> = (0..50).map(|k| D2::vector([(k % 7) as f64 * 0.1, (k / 7) as f64 * 0.1, 0.0])).collect();
+/// let kernel = WendlandC2::<D2>::from_spacing(0.1, 1.3).unwrap();
+/// let list = CellGrid::<D2>::build(&x, kernel.cutoff()).unwrap().neighbor_list(&x, kernel.cutoff()).unwrap();
+/// let halves = PairSymmetry::new(&list).expect("a self list is symmetric");
+/// let mut pairs = pair_kernels::<D2, _>(&x, &list, &kernel);
+/// halves.fill(&x, &list, &kernel, &mut pairs);
+/// assert_eq!(pairs, pair_kernels::<D2, _>(&x, &list, &kernel));
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct PairSymmetry {
+    /// `list.num_pairs()` of the list it was built from.
+    pairs: usize,
+    /// Row `i`'s computed slots are `upper[upper_start[i]..upper_start[i + 1]]`.
+    upper_start: Vec<usize>,
+    /// Slots `(i, j ≥ i)`, absolute, grouped by row.
+    upper: Vec<u32>,
+    /// Row `i`'s copied slots are `lower[lower_start[i]..lower_start[i + 1]]`.
+    lower_start: Vec<usize>,
+    /// `(k, m)`: the slot `k` of `(i, j < i)` and the slot `m` of its mirror `(j, i)`.
+    ///
+    /// Invariant (what makes [`PairSymmetry::fill`]'s second pass sound): every `k` and
+    /// every `m` is `< pairs`, the `k` are distinct, and no `m` is any `k` (an `m` is an
+    /// upper slot, a `k` a lower one, of the same list).
+    lower: Vec<(u32, u32)>,
+}
+
+impl PairSymmetry {
+    /// The halves of `list`, or `None` if the list is not symmetric or has more than
+    /// `u32::MAX` pairs (then use [`fill_pair_kernels`]).
+    pub fn new(list: &NeighborList) -> Option<Self> {
+        let n = list.len();
+        let pairs = list.num_pairs();
+        u32::try_from(pairs).ok()?;
+        let (offsets, indices) = (list.offsets(), list.indices());
+        let mut upper_start = Vec::with_capacity(n + 1);
+        let mut upper = Vec::with_capacity(pairs / 2 + n);
+        let mut lower_start = vec![0usize; n + 1];
+        upper_start.push(0);
+        for i in 0..n {
+            let mut below = 0;
+            for k in list.range(i) {
+                if indices[k] as usize >= i {
+                    upper.push(k as u32);
+                } else {
+                    below += 1;
+                }
+            }
+            upper_start.push(upper.len());
+            lower_start[i + 1] = lower_start[i] + below;
+        }
+        // The transpose of the upper halves: walking the rows `j` in ascending order, each
+        // upper slot `m = (j, i > j)` goes to row `i`'s bucket, to be matched with row `i`'s
+        // slot of `j` (found through `slot_of`, valid while row `i` is scanned).
+        let mut lower = vec![(u32::MAX, u32::MAX); lower_start[n]];
+        let mut fill = lower_start.clone();
+        for j in 0..n {
+            for &m in &upper[upper_start[j]..upper_start[j + 1]] {
+                let i = indices[m as usize] as usize;
+                if i > j {
+                    let slot = fill[i];
+                    if slot >= lower_start[i + 1] {
+                        return None;
+                    }
+                    lower[slot] = (j as u32, m);
+                    fill[i] += 1;
+                }
+            }
+        }
+        let mut slot_of = vec![u32::MAX; n];
+        for i in 0..n {
+            if fill[i] != lower_start[i + 1] {
+                return None;
+            }
+            for k in list.range(i) {
+                let j = indices[k] as usize;
+                if j < i {
+                    slot_of[j] = k as u32;
+                }
+            }
+            for entry in &mut lower[lower_start[i]..lower_start[i + 1]] {
+                // The bucket entry holds (j, m); row `i`'s slot of `j` must exist and be used
+                // once (a stale or consumed `slot_of` fails the range check).
+                let j = entry.0 as usize;
+                let k = std::mem::replace(&mut slot_of[j], u32::MAX) as usize;
+                if !(offsets[i]..offsets[i + 1]).contains(&k) || indices[k] as usize != j {
+                    return None;
+                }
+                entry.0 = k as u32;
+            }
+        }
+        Some(Self {
+            pairs,
+            upper_start,
+            upper,
+            lower_start,
+            lower,
+        })
+    }
+
+    /// [`fill_pair_kernels`]`(positions, positions, list, kernel, out)` for the list these
+    /// halves were built from: pass 1 computes the slots `(i, j ≥ i)` row by row, pass 2 copies
+    /// each reversed into its mirror `(j, i)`. Identical bits, any thread count.
+    ///
+    /// # Panics
+    /// If `list` or `out` does not match the list the halves were built from in length.
+    pub fn fill<D: Dim, K: Kernel>(
+        &self,
+        positions: &[D::Vector],
+        list: &NeighborList,
+        kernel: &K,
+        out: &mut [PairKernel<D>],
+    ) {
+        assert_eq!(
+            list.num_pairs(),
+            self.pairs,
+            "neighbour list of these halves"
+        );
+        assert_eq!(
+            list.len() + 1,
+            self.upper_start.len(),
+            "particles of these halves"
+        );
+        assert_eq!(out.len(), self.pairs, "pair buffer length");
+        let (offsets, indices) = (list.offsets(), list.indices());
+        crate::parallel::gather_slices(offsets, out, &|i, slots: &mut [PairKernel<D>]| {
+            let (xi, start) = (positions[i], offsets[i]);
+            for &k in &self.upper[self.upper_start[i]..self.upper_start[i + 1]] {
+                let j = indices[k as usize] as usize;
+                slots[k as usize - start] = pair_kernel::<D, K>(xi - positions[j], kernel);
+            }
+        });
+        let shared = SharedSlots(out.as_mut_ptr());
+        let copy_row = |i: usize| {
+            for &(k, m) in &self.lower[self.lower_start[i]..self.lower_start[i + 1]] {
+                // SAFETY: by the invariant of `lower`, `k` and `m` are in bounds of `out`
+                // (length `self.pairs`, asserted), each `k` is written by exactly one call
+                // (rows partition `lower`), and no `m` is written during this pass.
+                unsafe {
+                    let p = shared.get().add(m as usize).read();
+                    shared.get().add(k as usize).write(reversed(p));
+                }
+            }
+        };
+        let n = list.len();
+        if crate::parallel::worth_splitting(n) {
+            use rayon::prelude::*;
+            (0..n)
+                .into_par_iter()
+                .with_min_len(crate::parallel::MIN_PARTICLES_PER_TASK)
+                .for_each(copy_row);
+        } else {
+            (0..n).for_each(copy_row);
+        }
+    }
+}
+
+/// A raw pointer that may cross threads, for [`PairSymmetry::fill`]'s second pass (disjoint
+/// writes, reads of slots nobody writes).
+#[derive(Clone, Copy)]
+struct SharedSlots<T>(*mut T);
+// SAFETY: used only by `PairSymmetry::fill`, whose tasks write disjoint slots and read only
+// slots that no task writes in the same pass.
+unsafe impl<T: Send> Send for SharedSlots<T> {}
+unsafe impl<T: Send> Sync for SharedSlots<T> {}
+impl<T> SharedSlots<T> {
+    /// The pointer (a method, so closures capture the whole `Sync` wrapper).
+    fn get(self) -> *mut T {
+        self.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dim::{D2, D3};
+    use crate::kernel::WendlandC2;
+    use crate::neighbor::{neighbor_list_cells, CellGrid};
+
+    /// A jittered lattice of `n` points per side (deterministic).
+    fn cloud<D: Dim>(n: usize, dp: f64) -> Vec<D::Vector> {
+        let layers = if D::D == 3 { n } else { 1 };
+        let mut seed = 12345u64;
+        let mut jitter = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3 * dp
+        };
+        let mut v = Vec::new();
+        for k in 0..layers {
+            for j in 0..n {
+                for i in 0..n {
+                    let c = [i as f64 * dp, j as f64 * dp, k as f64 * dp];
+                    v.push(D::vector([
+                        c[0] + jitter(),
+                        c[1] + jitter(),
+                        c[2] + jitter(),
+                    ]));
+                }
+            }
+        }
+        v
+    }
+
+    /// Exact text of every pair (Debug prints the shortest round-trip form, sign of zero
+    /// included), so equal text is equal bits.
+    fn bits<D: Dim>(p: &[PairKernel<D>]) -> Vec<String> {
+        p.iter().map(|p| format!("{p:?}")).collect()
+    }
+
+    fn check<D: Dim>(n: usize) {
+        let dp = 0.01;
+        let x = cloud::<D>(n, dp);
+        let kernel = WendlandC2::<D>::from_spacing(dp, 1.3).unwrap();
+        let cutoff = kernel.cutoff();
+        // The UL list (cell-scan row order) and the sorted TL list.
+        let lists = [
+            CellGrid::<D>::build(&x, cutoff)
+                .unwrap()
+                .neighbor_list(&x, cutoff)
+                .unwrap(),
+            neighbor_list_cells::<D>(&x, cutoff).unwrap(),
+        ];
+        for list in &lists {
+            let halves = PairSymmetry::new(list).expect("symmetric");
+            let expected = bits::<D>(&pair_kernels(&x, list, &kernel));
+            for threads in [1, 2, 3] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let mut out = vec![
+                    PairKernel::<D> {
+                        e: D::zero(),
+                        r: -1.0,
+                        w: -1.0,
+                        dw: 1.0
+                    };
+                    list.num_pairs()
+                ];
+                pool.install(|| halves.fill(&x, list, &kernel, &mut out));
+                assert_eq!(
+                    bits::<D>(&out),
+                    expected,
+                    "{} particles, {threads} threads",
+                    x.len()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn symmetric_fill_is_bit_identical_to_the_plain_fill() {
+        check::<D2>(5);
+        check::<D2>(60); // 3,600 particles: both passes split over the pool
+        check::<D3>(4);
+        check::<D3>(13);
+    }
+
+    #[test]
+    fn asymmetric_lists_have_no_halves() {
+        // 0 → 1 without 1 → 0.
+        let list = NeighborList::from_parts(vec![0, 1, 1], vec![1]).unwrap();
+        assert!(PairSymmetry::new(&list).is_none());
+        // 0 ↔ 1 and 0 → 2 only.
+        let list = NeighborList::from_parts(vec![0, 2, 3, 3], vec![1, 2, 0]).unwrap();
+        assert!(PairSymmetry::new(&list).is_none());
+        // 2 → 0 only (the lower half without its upper).
+        let list = NeighborList::from_parts(vec![0, 0, 0, 1], vec![0]).unwrap();
+        assert!(PairSymmetry::new(&list).is_none());
+        // A duplicated pair in both rows.
+        let list = NeighborList::from_parts(vec![0, 2, 4], vec![1, 1, 0, 0]).unwrap();
+        assert!(PairSymmetry::new(&list).is_none());
+        // Symmetric, self pairs included.
+        let list = NeighborList::from_parts(vec![0, 2, 4], vec![0, 1, 1, 0]).unwrap();
+        assert!(PairSymmetry::new(&list).is_some());
+    }
+
+    #[test]
+    #[should_panic(expected = "neighbour list of these halves")]
+    fn halves_refuse_another_list() {
+        let a = NeighborList::from_parts(vec![0, 1, 2], vec![1, 0]).unwrap();
+        let b = NeighborList::from_parts(vec![0, 0, 0], vec![]).unwrap();
+        let halves = PairSymmetry::new(&a).unwrap();
+        let x = [D2::vector([0.0; 3]), D2::vector([0.01, 0.0, 0.0])];
+        let kernel = WendlandC2::<D2>::from_spacing(0.01, 1.3).unwrap();
+        halves.fill::<D2, _>(&x, &b, &kernel, &mut []);
+    }
 }

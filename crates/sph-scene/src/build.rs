@@ -419,6 +419,8 @@ impl Scene {
                         .bool("corrected_gradient", d.corrected_velocity_gradient),
                     refresh_kernel_data: keys.bool("refresh_kernel_data", d.refresh_kernel_data),
                     allow_isolated: keys.bool("allow_fracture", d.allow_isolated),
+                    // As in the cases: ENOG's τ (output only) is integrated when written.
+                    track_shear_stress: options.output.is_some(),
                     ..d
                 };
                 keys.finish(&[

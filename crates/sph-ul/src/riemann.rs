@@ -101,6 +101,13 @@ pub fn continuity_jump(p_i: f64, p_j: f64, rho0_c0: f64, scheme: RiemannScheme) 
     }
 }
 
+/// Whether `scheme` has a pressure jump in the continuity equation at all
+/// ([`continuity_jump`] is identically zero otherwise), so the gather can skip it.
+#[inline]
+pub fn continuity_has_jump(scheme: RiemannScheme) -> bool {
+    matches!(scheme, RiemannScheme::Paper)
+}
+
 /// Potential energy of the equation of state for a particle of mass `m`: with
 /// `de/dρ = p/ρ²` and eq. (4), `m c0² (ln(ρ/ρ0) + ρ0/ρ − 1)` (zero at `ρ0`, ≥ 0).
 #[inline]

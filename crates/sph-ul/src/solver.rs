@@ -31,8 +31,8 @@ use crate::non_nested::{
     shear_acceleration_rate, AccumulatedShear, LaplacianForm,
 };
 use crate::riemann::{
-    continuity_jump, dissipative_pressure, pressure, pressure_energy, pressure_pair_factor,
-    RiemannScheme,
+    continuity_has_jump, continuity_jump, dissipative_pressure, pressure, pressure_energy,
+    pressure_pair_factor, RiemannScheme,
 };
 use crate::shear::{Shear, ShearForce};
 use crate::stepping::{acoustic_dt, advection_dt, next_substep, Stepping};
@@ -43,7 +43,7 @@ use sph_core::diagnostics;
 use sph_core::disorder::{affine_fit, disorder_indicator};
 use sph_core::error::check_positive;
 use sph_core::neighbor::{apply_permutation, invert_permutation};
-use sph_core::pairs::{fill_pair_kernels, pair_kernels};
+use sph_core::pairs::{fill_pair_kernels, pair_kernels, PairSymmetry};
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::state::{
@@ -79,8 +79,10 @@ pub struct UlParams {
     /// uses `B` (eq 26).
     pub corrected_velocity_gradient: bool,
     /// ENOG: integrate the shear stress for output (eq 6–8 with eq 26; it never feeds back into
-    /// the motion). Off saves one matrix per pair per sub-step; `von_mises` then shows the
-    /// pressure part only.
+    /// the motion). Off saves one matrix per pair per sub-step (a quarter of the 2D plate's
+    /// time); `von_mises` then shows the pressure part only and the energy budget uses the
+    /// exact shear work instead of the estimate from `τ`. The `sph` cases and scene files turn
+    /// it on exactly when snapshots are written.
     pub track_shear_stress: bool,
     /// Reorder particles in cell order at rebuilds (cache locality; default true).
     pub reorder: bool,
@@ -195,6 +197,9 @@ pub struct UlSolver<D: Dim> {
     // Rebuild data (frozen over the acoustic sub-steps).
     list: NeighborList,
     pairs: Vec<PairKernel<D>>,
+    /// The two halves of `list` (built at each rebuild), so the per-sub-step refresh of
+    /// `pairs` computes each unordered pair once; `None` if the list were not symmetric.
+    halves: Option<PairSymmetry>,
     correction: Vec<D::Matrix>,
     guarded: usize,
     rebuild_positions: Vec<D::Vector>,
@@ -322,6 +327,7 @@ impl<D: Dim> UlSolver<D> {
             free: vec![true; n],
             list: NeighborList::default(),
             pairs: Vec::new(),
+            halves: None,
             correction: vec![D::identity(); n],
             guarded: 0,
             rebuild_positions: Vec::new(),
@@ -524,13 +530,8 @@ impl<D: Dim> UlSolver<D> {
             dw: 0.0,
         };
         self.pairs.resize(self.list.num_pairs(), zero);
-        fill_pair_kernels(
-            &self.positions,
-            &self.positions,
-            &self.list,
-            &self.kernel,
-            &mut self.pairs,
-        );
+        self.halves = PairSymmetry::new(&self.list);
+        self.refresh_pair_kernels();
         if let Some(k) = self.pairs.iter().position(|p| p.r <= 0.0) {
             let i = self.list.offsets().partition_point(|&o| o <= k) - 1;
             return Err(Error::invalid(
@@ -559,6 +560,21 @@ impl<D: Dim> UlSolver<D> {
         self.rebuild_positions.extend_from_slice(&self.positions);
         self.rebuilds += 1;
         Ok(())
+    }
+
+    /// `pairs` from the current positions: each unordered pair computed once when the list
+    /// has its two halves (always, for a self list), bit for bit the plain fill otherwise.
+    fn refresh_pair_kernels(&mut self) {
+        match &self.halves {
+            Some(halves) => halves.fill(&self.positions, &self.list, &self.kernel, &mut self.pairs),
+            None => fill_pair_kernels(
+                &self.positions,
+                &self.positions,
+                &self.list,
+                &self.kernel,
+                &mut self.pairs,
+            ),
+        }
     }
 
     /// Applies `perm[new] = old` to every per-particle field and relabels the scene.
@@ -624,25 +640,40 @@ impl<D: Dim> UlSolver<D> {
         match self.variant {
             Variant::NonNested { factor, form } => match (grad, form) {
                 (true, LaplacianForm::Conservative) => {
-                    self.rates_loop::<true, 1>(corrected, factor)
+                    self.rates_with_jump::<true, 1>(corrected, factor)
                 }
                 (true, LaplacianForm::NonConservative) => {
-                    self.rates_loop::<true, 2>(corrected, factor)
+                    self.rates_with_jump::<true, 2>(corrected, factor)
                 }
                 (false, LaplacianForm::Conservative) => {
-                    self.rates_loop::<false, 1>(corrected, factor)
+                    self.rates_with_jump::<false, 1>(corrected, factor)
                 }
                 (false, LaplacianForm::NonConservative) => {
-                    self.rates_loop::<false, 2>(corrected, factor)
+                    self.rates_with_jump::<false, 2>(corrected, factor)
                 }
             },
-            _ => self.rates_loop::<true, 0>(corrected, 0.0),
+            _ => self.rates_with_jump::<true, 0>(corrected, 0.0),
+        }
+    }
+
+    /// [`Self::rates_loop`] with or without the continuity equation's pressure jump: the
+    /// solid schemes have none, and then the loop neither reads `p_j` nor multiplies zeros
+    /// (the same bits: the skipped terms are all `±0` added to `+0`).
+    fn rates_with_jump<const GRAD: bool, const LAP: u8>(&mut self, corrected: bool, factor: f64) {
+        if continuity_has_jump(self.params.riemann) {
+            self.rates_loop::<GRAD, LAP, true>(corrected, factor)
+        } else {
+            self.rates_loop::<GRAD, LAP, false>(corrected, factor)
         }
     }
 
     /// The gather of [`Self::compute_rates`]; `GRAD`: velocity gradient and Jaumann rate;
-    /// `LAP`: 0 none, 1 eq 19, 2 eq 18.
-    fn rates_loop<const GRAD: bool, const LAP: u8>(&mut self, corrected: bool, factor: f64) {
+    /// `LAP`: 0 none, 1 eq 19, 2 eq 18; `JUMP`: the scheme's pressure jump in eq 11.
+    fn rates_loop<const GRAD: bool, const LAP: u8, const JUMP: bool>(
+        &mut self,
+        corrected: bool,
+        factor: f64,
+    ) {
         let list = &self.list;
         let pairs = &self.pairs;
         let (x_v, rho, vol, p, tau, b) = (
@@ -665,7 +696,9 @@ impl<D: Dim> UlSolver<D> {
                 let v_ij = v_i - x_v[j];
                 let u = D::dot(v_ij, pk.e);
                 drho += u * pk.dw * v_j;
-                jump += continuity_jump(p_i, p[j], rho0_c0, scheme) * pk.dw * v_j;
+                if JUMP {
+                    jump += continuity_jump(p_i, p[j], rho0_c0, scheme) * pk.dw * v_j;
+                }
                 if GRAD {
                     l += velocity_gradient_pair::<D>(v_ij, pk.e, pk.dw, v_j);
                 }
@@ -825,13 +858,7 @@ impl<D: Dim> UlSolver<D> {
         // Eq 23: x, ρ (and τ) to the half step with the previous rates.
         self.drift(half);
         if self.params.refresh_kernel_data {
-            fill_pair_kernels(
-                &self.positions,
-                &self.positions,
-                &self.list,
-                &self.kernel,
-                &mut self.pairs,
-            );
+            self.refresh_pair_kernels();
         }
         // Eq 4, forces, loads, constraints.
         self.update_pressures();

@@ -13,7 +13,8 @@
 //! 9. reordering keeps constraints, probes and the map back to the input order;
 //! 10. isolated particles are counted; the accumulated disorder indicator sees a zigzag;
 //! 11. contact between bodies conserves momentum and rebounds;
-//! 12. the energy budget closes (free oscillation, both Riemann schemes; contact).
+//! 12. the energy budget closes (free oscillation, both Riemann schemes; contact);
+//! 13. ENOG moves identically with and without integrating its (output-only) shear stress.
 //!
 //! Material: the UL paper's 2D plate (E = 2 MPa, ν = 0.3975, ρ0 = 1000; c0 = 57.0 m/s), dp = 1 cm,
 //! h = 1.3 dp. Bodies are small so the file runs in seconds; `-- --nocapture` prints measurements.
@@ -1039,4 +1040,39 @@ fn contact_conserves_momentum_and_the_budget_closes() {
             assert!((a + b).abs() <= 1e-12 * peak.abs(), "{c}: {a} vs {b}");
         }
     }
+}
+
+/// 13. ENOG's shear stress is output only: without it (`track_shear_stress = false`, what the
+/// cases do when no snapshot is written) the motion is the same to the last bit, and no `τ`
+/// is kept.
+#[test]
+fn enog_motion_does_not_depend_on_tracking_the_shear_stress() {
+    let set = block::<D2>([16, 8, 1]);
+    let c = centroid::<D2>(set.positions());
+    let amp = 0.02 * c0() / (8.0 * DP);
+    let v: Vec<DVec2> = set
+        .positions()
+        .iter()
+        .map(|&x| DVec2::new(-(x.y - c.y), x.x - c.x) * amp + DVec2::new(x.x - c.x, 0.0) * amp)
+        .collect();
+    let run = |track: bool| {
+        let params = UlParams {
+            track_shear_stress: track,
+            ..UlParams::default()
+        };
+        let mut s =
+            UlSolver::new(body(&set, v.clone()), constants(), Shear::non_nested(), params).unwrap();
+        while s.time() < 0.005 {
+            s.step(2.0e-4).unwrap();
+        }
+        s
+    };
+    let (on, off) = (run(true), run(false));
+    assert_eq!(on.acoustic_step_count(), off.acoustic_step_count());
+    let bits = |x: &[DVec2]| x.iter().map(|p| (p.x.to_bits(), p.y.to_bits())).collect::<Vec<_>>();
+    assert_eq!(bits(on.positions()), bits(off.positions()));
+    assert_eq!(bits(on.velocities()), bits(off.velocities()));
+    assert_eq!(on.densities(), off.densities());
+    assert!(on.shear_stress().iter().any(|t| *t != glam::DMat2::ZERO));
+    assert!(off.shear_stress().is_empty());
 }

@@ -187,7 +187,11 @@ pub fn run_ul<D: Dim>(
         .sum::<f64>()
         .max(body.volumes.iter().sum::<f64>() * constants.sound_speed * 1e-12)
         * constants.density;
-    let solver = UlSolver::new(body, constants, shear, ul_numerics(p))?;
+    let mut numerics = ul_numerics(p);
+    // ENOG's shear stress never feeds back into the motion: integrate it only for the
+    // snapshots (the energy budget then uses the exact shear work instead of the estimate).
+    numerics.track_shear_stress = options.output.is_some();
+    let solver = UlSolver::new(body, constants, shear, numerics)?;
     let mut solver = attach(solver)?;
     let mut meta = meta(case, method, p, solver.len());
     meta.insert(
