@@ -1042,7 +1042,7 @@ fn contact_conserves_momentum_and_the_budget_closes() {
     }
 }
 
-/// 13. ENOG's shear stress is output only: without it (`track_shear_stress = false`, what the
+/// ENOG's shear stress is output only: without it (`track_shear_stress = false`, what the
 /// cases do when no snapshot is written) the motion is the same to the last bit, and no `τ`
 /// is kept.
 #[test]
@@ -1060,8 +1060,13 @@ fn enog_motion_does_not_depend_on_tracking_the_shear_stress() {
             track_shear_stress: track,
             ..UlParams::default()
         };
-        let mut s =
-            UlSolver::new(body(&set, v.clone()), constants(), Shear::non_nested(), params).unwrap();
+        let mut s = UlSolver::new(
+            body(&set, v.clone()),
+            constants(),
+            Shear::non_nested(),
+            params,
+        )
+        .unwrap();
         while s.time() < 0.005 {
             s.step(2.0e-4).unwrap();
         }
@@ -1069,7 +1074,11 @@ fn enog_motion_does_not_depend_on_tracking_the_shear_stress() {
     };
     let (on, off) = (run(true), run(false));
     assert_eq!(on.acoustic_step_count(), off.acoustic_step_count());
-    let bits = |x: &[DVec2]| x.iter().map(|p| (p.x.to_bits(), p.y.to_bits())).collect::<Vec<_>>();
+    let bits = |x: &[DVec2]| {
+        x.iter()
+            .map(|p| (p.x.to_bits(), p.y.to_bits()))
+            .collect::<Vec<_>>()
+    };
     assert_eq!(bits(on.positions()), bits(off.positions()));
     assert_eq!(bits(on.velocities()), bits(off.velocities()));
     assert_eq!(on.densities(), off.densities());
