@@ -138,8 +138,7 @@ fn main() {
          (24 bytes), MPS (3D) a velocity and an acceleration (48 bytes). *Bandwidth time* = \
          bytes / 10 GB/s: a step whose computation on the rank takes less than that is dominated \
          by communication. Each step also has one message per neighbouring rank (at most the \
-         *from* column above) and at most five small collectives (TL: the two time-step maxima \
-         and the finiteness check; MPS: its two maxima, each with a NaN check, and the \
+         *from* column above) and three small collectives (the two time-step maxima and the \
          finiteness check); at an assumed {:.0} µs per message and log2(P) stages per \
          collective that latency is the last column, and it, not the bandwidth, dominates for \
          large P.\n\n\
@@ -152,7 +151,7 @@ fn main() {
             let m = n / ranks as f64;
             let h = c_fit * m.powf(2.0 / 3.0);
             let (tl, mps) = (24.0 * h, 48.0 * h);
-            let latency = LATENCY * (26.0 + 5.0 * (ranks as f64).log2());
+            let latency = LATENCY * (26.0 + 3.0 * (ranks as f64).log2());
             let _ = writeln!(
                 doc,
                 "| {n:.0e} | {ranks} | {m:.0} | {h:.0} | {:.3} | {:.2e} | {:.1} µs | {:.2e} | {:.1} µs | {:.0} µs |",
@@ -168,7 +167,7 @@ fn main() {
     let _ = writeln!(
         doc,
         "\nThe latency column assumes 26 neighbouring ranks (a subdomain inside a 3D \
-         decomposition) and 5 collectives. Output is not in this model: snapshots and monitor \
+         decomposition) and 3 collectives. Output is not in this model: snapshots and monitor \
          samples gather whole fields to every rank (docs/distributed.md)."
     );
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {

@@ -35,6 +35,19 @@ pub trait Communicator: Send + Sync + Debug {
             .fold(f64::NEG_INFINITY, |m, v| m.max(v[0]))
     }
 
+    /// The largest `x` over the ranks, or NaN if `x` is NaN on any rank.
+    fn max_or_nan(&self, x: f64) -> f64 {
+        self.all_gather(&[x])
+            .iter()
+            .fold(f64::NEG_INFINITY, |m, v| {
+                if m.is_nan() || v[0].is_nan() {
+                    f64::NAN
+                } else {
+                    m.max(v[0])
+                }
+            })
+    }
+
     /// The smallest `x` over the ranks (NaN-ignoring, as [`f64::min`]).
     fn min(&self, x: f64) -> f64 {
         self.all_gather(&[x])
@@ -206,6 +219,8 @@ mod tests {
             let r = c.rank() as f64;
             let gathered = c.all_gather(&vec![r; c.rank() + 1]);
             let (mx, mn, sum) = (c.max(r), c.min(r), c.sum(&[r, 1.0]));
+            let nan = c.max_or_nan(if c.rank() == 1 { f64::NAN } else { r });
+            assert!(nan.is_nan() && c.max_or_nan(r) == 2.0);
             // A ring: send to the next rank, receive from the previous.
             let next = (c.rank() + 1) % c.size();
             let prev = (c.rank() + c.size() - 1) % c.size();

@@ -246,15 +246,25 @@ impl Domain {
     /// Overwrites the halo entries of `values` (`width` numbers per particle) with their
     /// owners' values: one message to and from each neighbouring rank. Collective.
     pub fn exchange(&self, width: usize, values: &mut [f64]) {
+        let got = self.send_halo(width, |l, buf| {
+            buf.extend_from_slice(&values[l * width..(l + 1) * width])
+        });
+        self.unpack_halo(width, &got, |l, c| {
+            values[l * width..(l + 1) * width].copy_from_slice(c)
+        });
+    }
+
+    /// The halo exchange, first half: `pack(l, buf)` appends the `width` numbers of local
+    /// particle `l` (one this rank owns and a neighbour needs) to the message for that
+    /// neighbour; returns the messages received, for [`Domain::unpack_halo`]. Only the
+    /// particles that move are touched. Collective.
+    pub fn send_halo(&self, width: usize, pack: impl Fn(usize, &mut Vec<f64>)) -> Vec<Vec<f64>> {
         let packed: Vec<Vec<f64>> = self
             .send
             .iter()
             .map(|(_, ids)| {
                 let mut buf = Vec::with_capacity(ids.len() * width);
-                for &l in ids {
-                    let l = l as usize * width;
-                    buf.extend_from_slice(&values[l..l + width]);
-                }
+                ids.iter().for_each(|&l| pack(l as usize, &mut buf));
                 buf
             })
             .collect();
@@ -265,26 +275,34 @@ impl Domain {
             .map(|((r, _), b)| (*r, b.as_slice()))
             .collect();
         let from: Vec<usize> = self.recv.iter().map(|r| r.0).collect();
-        let got = self.comm.exchange(&sends, &from);
+        self.comm.exchange(&sends, &from)
+    }
+
+    /// The halo exchange, second half: `unpack(l, numbers)` for each halo particle `l` with
+    /// the `width` numbers received for it.
+    ///
+    /// # Panics
+    /// If a message has the wrong length (the ranks disagree on the plan).
+    pub fn unpack_halo(
+        &self,
+        width: usize,
+        got: &[Vec<f64>],
+        mut unpack: impl FnMut(usize, &[f64]),
+    ) {
         for ((_, ids), buf) in self.recv.iter().zip(got) {
             assert_eq!(buf.len(), ids.len() * width, "halo message length");
-            for (k, &l) in ids.iter().enumerate() {
-                let l = l as usize * width;
-                values[l..l + width].copy_from_slice(&buf[k * width..(k + 1) * width]);
+            for (&l, numbers) in ids.iter().zip(buf.chunks_exact(width)) {
+                unpack(l as usize, numbers);
             }
         }
     }
 
     /// [`Domain::exchange`] of vectors.
     pub fn exchange_vectors<D: Dim>(&self, v: &mut [D::Vector]) {
-        let mut flat: Vec<f64> = v
-            .iter()
-            .flat_map(|&x| (0..D::D).map(move |k| D::component(x, k)))
-            .collect();
-        self.exchange(D::D, &mut flat);
-        for (x, c) in v.iter_mut().zip(flat.chunks_exact(D::D)) {
-            *x = D::vector([c[0], c[1], if D::D == 3 { c[2] } else { 0.0 }]);
-        }
+        let got = self.send_halo(D::D, |l, buf| {
+            buf.extend((0..D::D).map(|k| D::component(v[l], k)))
+        });
+        self.unpack_halo(D::D, &got, |l, c| v[l] = vector_of::<D>(c));
     }
 
     /// The owned entries of a local field (`width` numbers per particle) from every rank, in
@@ -335,9 +353,14 @@ impl Domain {
             .collect();
         self.gather(D::D, &flat)
             .chunks_exact(D::D)
-            .map(|c| D::vector([c[0], c[1], if D::D == 3 { c[2] } else { 0.0 }]))
+            .map(vector_of::<D>)
             .collect()
     }
+}
+
+/// The vector of `D::D` components.
+pub fn vector_of<D: Dim>(c: &[f64]) -> D::Vector {
+    D::vector([c[0], c[1], if D::D == 3 { c[2] } else { 0.0 }])
 }
 
 /// A solver of one rank's particles presented to the run driver as the whole body: positions,

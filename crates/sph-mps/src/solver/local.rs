@@ -12,7 +12,7 @@
 //! the ranks.
 
 use super::MpsSolver;
-use sph_core::distributed::{DistributedSolver, Domain};
+use sph_core::distributed::{vector_of, DistributedSolver, Domain};
 use sph_core::{Dim, Error};
 use sph_materials::Material;
 use std::sync::Arc;
@@ -88,18 +88,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
 
     /// The largest `x` over the ranks, NaN if it is NaN on any (`x` itself on one process).
     pub(super) fn reduce_max_or_nan(&self, x: f64) -> f64 {
-        match &self.domain {
-            None => x,
-            Some(d) => {
-                let m = d.comm().max(if x.is_nan() { f64::INFINITY } else { x });
-                let any_nan = !d.comm().all(!x.is_nan());
-                if any_nan {
-                    f64::NAN
-                } else {
-                    m
-                }
-            }
-        }
+        self.domain.as_ref().map_or(x, |d| d.comm().max_or_nan(x))
     }
 
     /// Sums over the ranks (`x` itself on one process).
@@ -136,21 +125,14 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             return;
         };
         let w = D::D;
-        let mut flat = Vec::with_capacity(self.velocities.len() * 2 * w);
-        for (&v, &a) in self.velocities.iter().zip(&self.accelerations) {
-            flat.extend((0..w).map(|k| D::component(v, k)));
-            flat.extend((0..w).map(|k| D::component(a, k)));
-        }
-        d.exchange(2 * w, &mut flat);
-        let vec = |c: &[f64]| D::vector([c[0], c[1], if w == 3 { c[2] } else { 0.0 }]);
-        for ((v, a), c) in self
-            .velocities
-            .iter_mut()
-            .zip(&mut self.accelerations)
-            .zip(flat.chunks_exact(2 * w))
-        {
-            *v = vec(&c[..w]);
-            *a = vec(&c[w..]);
-        }
+        let (v, a) = (&mut self.velocities, &mut self.accelerations);
+        let got = d.send_halo(2 * w, |l, buf| {
+            buf.extend((0..w).map(|k| D::component(v[l], k)));
+            buf.extend((0..w).map(|k| D::component(a[l], k)));
+        });
+        d.unpack_halo(2 * w, &got, |l, c| {
+            v[l] = vector_of::<D>(&c[..w]);
+            a[l] = vector_of::<D>(&c[w..]);
+        });
     }
 }
