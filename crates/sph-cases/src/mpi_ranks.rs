@@ -59,6 +59,15 @@ impl MpiRanks {
     }
 }
 
+impl MpiRanks {
+    /// Ends the processes of every rank (`MPI_Abort` with `code`): the way out of a rank that
+    /// fails while the others may be waiting for it in a collective (a normal exit would wait
+    /// in `MPI_Finalize` for ranks that wait for it).
+    pub fn abort(&self, code: i32) -> ! {
+        self.world.abort(code)
+    }
+}
+
 impl RankCommunicator for MpiRanks {
     fn rank(&self) -> usize {
         self.world.rank() as usize

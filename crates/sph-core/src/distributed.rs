@@ -481,10 +481,30 @@ impl<D: Dim, S: Solver<D>> Solver<D> for DistributedSolver<D, S> {
         self.domain.comm.size()
     }
 
-    fn save_state(&self, _out: &mut crate::StateWriter) -> Result<(), Error> {
-        Err(Error::Checkpoint(format!(
-            "a run on {} ranks writes no checkpoints (run on one rank to checkpoint)",
-            self.domain.comm.size()
-        )))
+    /// This rank's state (its particles and halo), after its rank and the rank count: one
+    /// checkpoint per rank, resumed on as many ranks (the decomposition of the same scene on
+    /// the same count is the same).
+    fn save_state(&self, out: &mut crate::StateWriter) -> Result<(), Error> {
+        let c = &self.domain.comm;
+        out.u64s("rank_of_ranks", &[c.rank() as u64, c.size() as u64]);
+        self.inner.save_state(out)
+    }
+
+    fn restore_state(&mut self, input: &mut crate::StateReader<'_>) -> Result<(), Error> {
+        let c = &self.domain.comm;
+        let saved = input.u64s("rank_of_ranks", Some(2))?;
+        if saved != [c.rank() as u64, c.size() as u64] {
+            return Err(Error::Checkpoint(format!(
+                "written by rank {} of {}; this is rank {} of {} (resume on as many ranks as \
+                 the run had)",
+                saved[0],
+                saved[1],
+                c.rank(),
+                c.size()
+            )));
+        }
+        self.positions = OnceCell::new();
+        self.velocities = OnceCell::new();
+        self.inner.restore_state(input)
     }
 }

@@ -521,6 +521,18 @@ fn read_driver(r: &mut StateReader<'_>) -> Result<DriverState, sph_core::Error> 
     })
 }
 
+/// The checkpoint file of rank `rank` of a distributed run whose checkpoint is `path`: `path`
+/// itself for rank 0 (it also holds the snapshots and is what `sph resume` is given),
+/// `<path>.rank<r>` for the others.
+pub fn rank_path(path: &Path, rank: usize) -> std::path::PathBuf {
+    if rank == 0 {
+        return path.to_path_buf();
+    }
+    let mut s = path.as_os_str().to_os_string();
+    s.push(format!(".rank{rank}"));
+    s.into()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

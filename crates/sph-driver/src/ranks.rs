@@ -1,8 +1,9 @@
 //! What the run driver does differently on more than one rank ([`crate::RunOptions::ranks`]):
 //! every rank runs the same loop (the time step is global, so the ranks take the same steps and
 //! gather the same output at the same times); only rank 0 writes the results file, the others
-//! write into a [`Discard`] writer; failures and interruptions are agreed between the ranks so
-//! that none waits for a partner that stopped; checkpoints are refused.
+//! write into a [`Discard`] writer; failures, interruptions and checkpoint times are agreed
+//! between the ranks so that none waits for a partner that stopped; each rank writes its own
+//! checkpoint ([`crate::checkpoint::rank_path`]), rank 0's with the snapshots.
 
 use crate::error::DriverError;
 use sph_core::comm::Communicator;
@@ -11,12 +12,10 @@ use sph_output::{Dataset, OutputError, ResultWriter};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// Checks that `solver` is distributed over `comm`'s ranks and that nothing asked of the run
-/// needs one process (checkpoints).
+/// Checks that `solver` is distributed over `comm`'s ranks.
 pub(crate) fn check<D: Dim>(
     solver: &dyn Solver<D>,
     comm: &Arc<dyn Communicator>,
-    checkpointing: bool,
 ) -> Result<(), DriverError> {
     let n = comm.size();
     if n > 1 && solver.ranks() != n {
@@ -24,11 +23,6 @@ pub(crate) fn check<D: Dim>(
             "the method {} does not run distributed: it was started on {n} ranks (run it on one; \
              tl, tl-hf, tl-gm and mps run on several)",
             solver.method()
-        )));
-    }
-    if n > 1 && checkpointing {
-        return Err(DriverError::Config(format!(
-            "checkpoints (--checkpoint-every, --resume) need a run on one rank; this one has {n}"
         )));
     }
     Ok(())

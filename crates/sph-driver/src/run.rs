@@ -91,7 +91,8 @@ pub struct RunOptions {
     /// The ranks of a distributed run (`None`: one process). The solver handed to [`drive`]
     /// must then be distributed over them (a
     /// [`DistributedSolver`](sph_core::distributed::DistributedSolver)); every rank runs the
-    /// driver, rank 0 writes the results, and checkpoints are refused.
+    /// driver, rank 0 writes the results, and each rank writes its own checkpoint (the plan's
+    /// path is then the rank's, [`crate::checkpoint::rank_path`]).
     pub ranks: Option<Arc<dyn sph_core::comm::Communicator>>,
 }
 
@@ -351,11 +352,7 @@ pub fn drive<D: Dim>(
     let started = Instant::now();
     check_compression(options)?;
     if let Some(comm) = &options.ranks {
-        crate::ranks::check(
-            solver,
-            comm,
-            options.checkpoint.is_some() || options.resume.is_some(),
-        )?;
+        crate::ranks::check(solver, comm)?;
     }
     let comm = options.ranks.as_ref().filter(|c| c.size() > 1);
     let root = comm.is_none_or(|c| c.rank() == 0);
@@ -447,7 +444,8 @@ pub fn drive<D: Dim>(
                     Err(e) => record.failure = Some(format!("writing the results: {e}")),
                     Ok(()) => {
                         last_snapshot = t;
-                        if options.checkpoint.is_some() {
+                        // Rank 0's checkpoint re-creates the results file.
+                        if options.checkpoint.is_some() && root {
                             kept.push(SavedSnapshot {
                                 time: t,
                                 step: solver.step_count(),
@@ -474,11 +472,13 @@ pub fn drive<D: Dim>(
         }
         let sig = interrupted();
         // A checkpoint when one is due, and on an interruption (the run can go on from there).
-        if let Some(plan) = options
-            .checkpoint
-            .as_ref()
-            .filter(|_| sig != 0 || due.is_due(t))
-        {
+        // On several ranks: all write when one is due (a wall-time interval ends at
+        // different steps on different ranks), so the ranks' checkpoints hold the same step.
+        let due_now = options.checkpoint.is_some() && {
+            let d = due.is_due(t);
+            comm.map_or(d, |c| !c.all(!d))
+        };
+        if let Some(plan) = options.checkpoint.as_ref().filter(|_| sig != 0 || due_now) {
             let state = DriverState {
                 next_snapshot,
                 next_monitor,

@@ -51,13 +51,32 @@ fn ranks() -> Option<Arc<dyn sph_core::comm::Communicator>> {
     RANKS.lock().ok()?.clone().filter(|c| c.size() > 1)
 }
 
+/// MPI itself, to abort every rank when one fails.
+#[cfg(feature = "mpi")]
+static MPI: std::sync::OnceLock<std::sync::Weak<sph_cases::mpi_ranks::MpiRanks>> =
+    std::sync::OnceLock::new();
+
 /// Starts MPI when the command is built with the `mpi` feature.
 fn start_ranks() -> Result<(), String> {
     #[cfg(feature = "mpi")]
     if let Some(r) = sph_cases::mpi_ranks::MpiRanks::initialize()? {
-        *RANKS.lock().map_err(|e| e.to_string())? = Some(Arc::new(r));
+        let r = Arc::new(r);
+        let _ = MPI.set(Arc::downgrade(&r));
+        *RANKS.lock().map_err(|e| e.to_string())? = Some(r);
     }
     Ok(())
+}
+
+/// On several ranks, a rank that ends with an error ends them all (exit status 1 under
+/// `mpirun`): the others may be waiting for it. Returns on one rank.
+fn abort_ranks_on_error(code: ExitCode) {
+    #[cfg(feature = "mpi")]
+    if code != ExitCode::SUCCESS && ranks().is_some() {
+        if let Some(m) = MPI.get().and_then(|w| w.upgrade()) {
+            m.abort(1);
+        }
+    }
+    let _ = code;
 }
 
 /// Most worker threads `--threads` accepts.
@@ -178,6 +197,7 @@ fn main() -> ExitCode {
         return ExitCode::from(2);
     }
     let code = command(cli);
+    abort_ranks_on_error(code);
     // The last handle: finalises MPI.
     if let Ok(mut r) = RANKS.lock() {
         r.take();
@@ -480,7 +500,32 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
 /// `sph resume`: reads and checks the checkpoint (rc 2 on any problem, before any work),
 /// rebuilds the run it records and continues it.
 fn resume(a: ResumeArgs) -> Result<ExitCode, CaseError> {
-    let checkpoint = Checkpoint::load(&a.checkpoint)?;
+    // On several ranks each resumes from its own file (rank 0's is the one named).
+    let rank = ranks().map_or(0, |c| c.rank());
+    let path = sph_driver::checkpoint::rank_path(&a.checkpoint, rank);
+    if rank > 0 && !path.exists() {
+        return Err(CaseError::Config(format!(
+            "{}: no checkpoint for rank {rank} (resume on as many ranks as the run that wrote \
+             {} had)",
+            path.display(),
+            a.checkpoint.display()
+        )));
+    }
+    let checkpoint = Checkpoint::load(&path)?;
+    // Older checkpoints have no `ranks`: one.
+    let written_on = checkpoint
+        .run
+        .get("ranks")
+        .and_then(Json::as_u64)
+        .unwrap_or(1);
+    let now = ranks().map_or(1, |c| c.size()) as u64;
+    if written_on != now {
+        return Err(CaseError::Config(format!(
+            "checkpoint {}: written by a run on {written_on} rank(s), resumed on {now} (resume \
+             on as many ranks as the run had: `mpirun -n {written_on} sph resume …`)",
+            a.checkpoint.display()
+        )));
+    }
     let (job, mut settings) = resume_job(&checkpoint)?;
     if a.threads.is_some() {
         settings.threads = a.threads;
@@ -609,6 +654,7 @@ fn run_description(
         "allow_long_run": s.allow_long_run,
         "checkpoint_every": s.checkpoint_every,
         "checkpoint": abs(checkpoint)?,
+        "ranks": ranks().map_or(1, |c| c.size()),
     });
     let m = d.as_object_mut().expect("an object");
     match job {
@@ -659,13 +705,6 @@ fn execute(
             return Err(CaseError::Config(format!(
                 "the method {method} does not run distributed: sph was started on {} ranks \
                  (run it on one; tl, tl-hf, tl-gm and mps run on several)",
-                c.size()
-            )));
-        }
-        if a.checkpoint_every.is_some() || resume_from.is_some() {
-            return Err(CaseError::Config(format!(
-                "checkpoints (--checkpoint-every, sph resume) need a run on one rank; sph was \
-                 started on {}",
                 c.size()
             )));
         }
@@ -734,7 +773,13 @@ fn execute(
                 .clone()
                 .unwrap_or_else(|| a.out.join(format!("{name}-{method}.ckpt")));
             let run = run_description(&job, &a, &path, threads)?;
-            Some(CheckpointPlan { path, every, run })
+            // On several ranks each writes its own file (rank 0's is `path`).
+            let rank = ranks.as_ref().map_or(0, |c| c.rank());
+            Some(CheckpointPlan {
+                path: sph_driver::checkpoint::rank_path(&path, rank),
+                every,
+                run,
+            })
         }
         None => None,
     };
