@@ -7,8 +7,9 @@
 # libclang-dev`, which rsmpi's build needs) when they are missing and it can; when it cannot,
 # prints a notice and skips (the distributed code itself is tested by the ordinary
 # `cargo test` run, on in-process ranks). Then runs `cargo test -p sph-cases --features mpi
-# --test mpi`: a TL-HF bending column on 1, 2 and 3 ranks (oversubscribed on 2 cores), the
-# results compared bit for bit, and the refusals (other methods, checkpoints).
+# --test mpi` (after clippy with the feature): a TL-HF bending column and the MPS cantilever
+# plate on 1, 2 and 3 ranks (oversubscribed on 2 cores), the results compared bit for bit; a
+# 2-rank run checkpointed and resumed on 2 ranks; the refusals (UL, another rank count).
 set -u
 
 notice() { echo "notice: $*"; }
@@ -43,5 +44,8 @@ if ! have_mpi; then
     fi
     have_mpi || { notice "MPI installed but mpirun, mpicc or libclang not found (MPI tests skipped)"; exit 0; }
 fi
+echo "sph-cases: clippy with the mpi feature"
+cargo clippy -p sph-cases --all-targets --features mpi -- -D warnings || exit 1
 echo "sph-cases: sph run under mpirun on 1, 2 and 3 ranks"
-exec cargo test -p sph-cases --features mpi --test mpi
+# A rank waiting for a partner that never comes would hang CI: bounded (it takes seconds).
+exec timeout 900 cargo test -p sph-cases --features mpi --test mpi
