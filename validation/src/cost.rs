@@ -94,9 +94,29 @@ pub fn run_or_load(
     set: &[String],
     force: bool,
 ) -> Result<CostedRun, String> {
+    run_or_load_writing(id, case, method, set, false, THREADS, force)
+}
+
+/// [`run_or_load`] on `threads` threads; with `output` the run writes its HDF5 results
+/// (snapshots, probes) under `target/tradeoff-output/<id>/` instead of `--no-output`, as a user
+/// who keeps results runs it; the files are deleted after the run (only the cost is kept).
+pub fn run_or_load_writing(
+    id: &str,
+    case: &str,
+    method: &str,
+    set: &[String],
+    output: bool,
+    threads: usize,
+    force: bool,
+) -> Result<CostedRun, String> {
     if !force {
         if let Some(r) = load(id) {
-            if r.set == set && r.method == method && r.case == case {
+            if r.set == set
+                && r.method == method
+                && r.case == case
+                && r.command.contains("--no-output") != output
+                && r.command.contains(&format!("--threads {threads} "))
+            {
                 return Ok(r);
             }
         }
@@ -110,12 +130,23 @@ pub fn run_or_load(
         args.push("--set".into());
         args.push(s.clone());
     }
-    args.extend([
-        "--threads".into(),
-        THREADS.to_string(),
-        "--no-output".into(),
-    ]);
+    args.extend(["--threads".into(), threads.to_string()]);
+    let out_dir = crate::workspace_root()
+        .join("target")
+        .join("tradeoff-output")
+        .join(id);
+    if output {
+        let _ = std::fs::remove_dir_all(&out_dir);
+        args.extend(["--out".into(), format!("target/tradeoff-output/{id}")]);
+    } else {
+        args.push("--no-output".into());
+    }
     let command = format!("sph {}", args.join(" "));
+    if output {
+        // The command as recorded is relative to the workspace root; run it there too.
+        args.pop();
+        args.push(out_dir.display().to_string());
+    }
     args.push("--summary".into());
     args.push(summary_path.display().to_string());
     eprintln!("running {id}: {command}");
@@ -127,6 +158,9 @@ pub fn run_or_load(
         .spawn()
         .map_err(|e| format!("{}: {e}", sph.display()))?;
     let (exit_code, usage, stderr) = wait_with_usage(child)?;
+    if output {
+        let _ = std::fs::remove_dir_all(&out_dir);
+    }
     // 130/143 (SIGINT/SIGTERM: `sph` stopped cleanly) or 128 + n (killed): the run was stopped
     // from outside, which says nothing about the method; not stored.
     if exit_code >= 128 {

@@ -7,6 +7,7 @@
 
 pub mod cost;
 pub mod extreme;
+pub mod features;
 pub mod frames;
 pub mod h5report;
 pub mod hertz;

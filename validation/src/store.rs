@@ -135,6 +135,23 @@ pub fn set_plan_only(plan: bool) {
     PLAN_ONLY.store(plan, std::sync::atomic::Ordering::Relaxed);
 }
 
+static RUN_FILTER: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
+
+/// Make only the runs whose id starts with `prefix` ([`run_or_load_then`] returns the others
+/// unrun, with an empty summary, unless stored or adoptable); `None` makes every run.
+pub fn set_run_filter(prefix: Option<String>) {
+    *RUN_FILTER.lock().expect("filter lock") = prefix;
+}
+
+/// Whether run `id` is filtered out by [`set_run_filter`].
+fn filtered_out(id: &str) -> bool {
+    RUN_FILTER
+        .lock()
+        .expect("filter lock")
+        .as_ref()
+        .is_some_and(|p| !id.starts_with(p.as_str()))
+}
+
 /// The kept HDF5 results, relative to the workspace root (outside git: under `target/`).
 pub const RESULTS_FILES_DIR: &str = "target/validation-results";
 
@@ -212,8 +229,10 @@ pub fn run_or_load_then(
             eprintln!("adopting {id} from {}", file.display());
             (Some(file), summary)
         }
-        None if PLAN_ONLY.load(std::sync::atomic::Ordering::Relaxed) => {
-            println!("{id}\t{command}");
+        None if PLAN_ONLY.load(std::sync::atomic::Ordering::Relaxed) || filtered_out(id) => {
+            if !filtered_out(id) {
+                println!("{id}\t{command}");
+            }
             return Ok(StoredRun {
                 id: id.into(),
                 case: case.into(),

@@ -332,6 +332,9 @@ pub fn run_all(sel: Selection) -> Result<(), String> {
             }
         }
     }
+    if wanted("features") {
+        crate::features::run_all(sel.force)?;
+    }
     Ok(())
 }
 
@@ -463,6 +466,7 @@ pub fn report(root: &Path) -> Result<(), String> {
     for sweep in sweeps() {
         any |= sweep_section(&mut md, &sweep, &fig_dir)?;
     }
+    any |= crate::features::section(&mut md);
     if !any {
         return Ok(());
     }

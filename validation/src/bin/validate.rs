@@ -28,6 +28,10 @@ struct Cli {
     /// Print the runs the selection would make (`id<TAB>command`), run nothing.
     #[arg(long, global = true)]
     plan: bool,
+    /// Make only the runs whose id starts with this (ids as `--plan` prints them); the others
+    /// are used when stored and skipped otherwise (tl, mps, ul, extreme, impacts).
+    #[arg(long, global = true, value_name = "ID_PREFIX")]
+    runs: Option<String>,
     #[command(subcommand)]
     command: Command,
 }
@@ -102,7 +106,7 @@ enum Command {
         #[arg(long)]
         force: bool,
         /// Only the scenes/sweeps whose key starts with this (plate, homog, cantilever, lame,
-        /// rings, column)
+        /// rings, column, features)
         #[arg(long)]
         only: Option<String>,
     },
@@ -113,6 +117,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     store::set_plan_only(cli.plan);
+    store::set_run_filter(cli.runs.clone());
     if let Command::Tl {
         medium,
         fine,
