@@ -358,6 +358,65 @@ impl Domain {
     }
 }
 
+/// The reductions over the whole body that a solver makes when it may be one rank's share of
+/// it (`Some` domain) or the whole body on one process (`None`: each is the identity), in one
+/// place for every distributed method.
+pub trait OverRanks {
+    /// The largest `x` over the ranks.
+    fn max_over_ranks(&self, x: f64) -> f64;
+    /// The smallest `x` over the ranks.
+    fn min_over_ranks(&self, x: f64) -> f64;
+    /// The largest `x` over the ranks, NaN if it is NaN on any.
+    fn max_or_nan_over_ranks(&self, x: f64) -> f64;
+    /// Element-wise sums over the ranks.
+    fn sum_over_ranks(&self, x: &[f64]) -> Vec<f64>;
+    /// Whether particle `i` counts in sums over the body (the owned ones on a rank).
+    fn counts(&self, i: usize) -> bool;
+    /// A local result every rank must agree on: if another rank failed, this one fails too (so
+    /// no rank waits for a partner that stopped).
+    ///
+    /// # Errors
+    /// This rank's error, or one naming the other rank's failure.
+    fn agree(&self, result: Result<(), Error>) -> Result<(), Error>;
+}
+
+impl OverRanks for Option<Arc<Domain>> {
+    fn max_over_ranks(&self, x: f64) -> f64 {
+        self.as_ref().map_or(x, |d| d.comm().max(x))
+    }
+
+    fn min_over_ranks(&self, x: f64) -> f64 {
+        self.as_ref().map_or(x, |d| d.comm().min(x))
+    }
+
+    fn max_or_nan_over_ranks(&self, x: f64) -> f64 {
+        self.as_ref().map_or(x, |d| d.comm().max_or_nan(x))
+    }
+
+    fn sum_over_ranks(&self, x: &[f64]) -> Vec<f64> {
+        self.as_ref().map_or(x.to_vec(), |d| d.comm().sum(x))
+    }
+
+    fn counts(&self, i: usize) -> bool {
+        self.as_ref().is_none_or(|d| d.owned()[i])
+    }
+
+    fn agree(&self, result: Result<(), Error>) -> Result<(), Error> {
+        let Some(d) = self else {
+            return result;
+        };
+        if d.comm().all(result.is_ok()) {
+            return result;
+        }
+        result?;
+        Err(Error::invalid(
+            "state",
+            "another rank's state",
+            "finite on every rank (another rank reported the failure)",
+        ))
+    }
+}
+
 /// The vector of `D::D` components.
 pub fn vector_of<D: Dim>(c: &[f64]) -> D::Vector {
     D::vector([c[0], c[1], if D::D == 3 { c[2] } else { 0.0 }])

@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use sph_core::correction::DEFAULT_MIN_EIGENVALUE;
 use sph_core::diagnostics;
 use sph_core::disorder::disorder_indicator;
+use sph_core::distributed::OverRanks;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
 use sph_core::parallel::MIN_PARTICLES_PER_TASK;
@@ -543,7 +544,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
                 .map(|&x| D::norm_squared(x))
                 .reduce(|| 0.0, diagnostics::max_or_nan)
                 .sqrt();
-            self.reduce_max_or_nan(local)
+            self.domain.max_or_nan_over_ranks(local)
         };
         let (speed, accel) = (max(&self.velocities), max(&self.accelerations));
         let acoustic = self.dp / (self.sound_speed + speed);
@@ -648,7 +649,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             return p;
         }
         let v = D::to_vec3(p);
-        let s = self.reduce_sum(&[v.x, v.y, v.z]);
+        let s = self.domain.sum_over_ranks(&[v.x, v.y, v.z]);
         D::vector([s[0], s[1], s[2]])
     }
 
@@ -659,7 +660,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             &self.velocities,
             &self.counted_masses(),
         );
-        let s = self.reduce_sum(&[l.x, l.y, l.z]);
+        let s = self.domain.sum_over_ranks(&[l.x, l.y, l.z]);
         glam::DVec3::new(s[0], s[1], s[2])
     }
 
@@ -718,7 +719,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
 
     /// [`MpsSolver::energy`] over the owned particles of every rank (no contact: refused).
     fn distributed_energy(&self) -> Energy {
-        let owned = |i: &usize| self.counts(*i);
+        let owned = |i: &usize| self.domain.counts(*i);
         let n = self.len();
         let kinetic: f64 = (0..n)
             .filter(owned)
@@ -737,7 +738,9 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         let stabilisation: f64 = self
             .stabilisation_energies()
             .map_or(0.0, |e| (0..n).filter(owned).map(|i| e[i]).sum());
-        let s = self.reduce_sum(&[kinetic, strain, stabilisation]);
+        let s = self
+            .domain
+            .sum_over_ranks(&[kinetic, strain, stabilisation]);
         Energy {
             kinetic: s[0],
             strain: s[1],
@@ -812,7 +815,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
         }
         self.steps += 1;
         self.exchange_halo();
-        self.agree(self.check_finite())?;
+        self.domain.agree(self.check_finite())?;
         if !self.probes.is_empty() && self.schedule.due(self.time) {
             self.record_probes();
         }

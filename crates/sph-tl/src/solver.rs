@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
 use sph_core::diagnostics;
 use sph_core::disorder::disorder_indicator;
+use sph_core::distributed::OverRanks;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
 use sph_core::pairs::pair_kernels;
@@ -592,7 +593,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                 .filter(|(_, &f)| f)
                 .map(|(&m, _)| D::min_singular_value(m))
                 .reduce(|| 1.0, f64::min);
-            self.min_stretch = self.reduce_min(local);
+            self.min_stretch = self.domain.min_over_ranks(local);
         }
         if !self.tools.is_empty() {
             // |Fᵀ n| ≤ ‖F‖_F: a bound on every particle's contact offset factor.
@@ -616,7 +617,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             &self.velocities,
             &mut self.deformation_rate,
         );
-        self.max_speed = self.reduce_max(diagnostics::max_norm_where::<D>(
+        self.max_speed = self.domain.max_over_ranks(diagnostics::max_norm_where::<D>(
             &self.velocities,
             &self.free,
         ));
@@ -787,7 +788,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             return p;
         }
         let v = D::to_vec3(p);
-        let s = self.reduce_sum(&[v.x, v.y, v.z]);
+        let s = self.domain.sum_over_ranks(&[v.x, v.y, v.z]);
         D::vector([s[0], s[1], s[2]])
     }
 
@@ -799,7 +800,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             &self.velocities,
             &self.counted_masses(),
         );
-        let s = self.reduce_sum(&[l.x, l.y, l.z]);
+        let s = self.domain.sum_over_ranks(&[l.x, l.y, l.z]);
         glam::DVec3::new(s[0], s[1], s[2])
     }
 
@@ -811,10 +812,10 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             .iter()
             .zip(&self.volumes)
             .enumerate()
-            .filter(|(i, _)| self.counts(*i))
+            .filter(|(i, _)| self.domain.counts(*i))
             .map(|(_, (&f, &v))| v * self.material.strain_energy_density(f).unwrap_or(f64::NAN))
             .sum();
-        let s = self.reduce_sum(&[kinetic, strain]);
+        let s = self.domain.sum_over_ranks(&[kinetic, strain]);
         Energy {
             kinetic: s[0],
             strain: s[1],
@@ -929,12 +930,12 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             &self.velocities,
             half,
         );
-        self.max_acceleration = self.reduce_max(diagnostics::max_norm_where::<D>(
+        self.max_acceleration = self.domain.max_over_ranks(diagnostics::max_norm_where::<D>(
             &self.accelerations,
             &self.free,
         ));
         self.update_stretch_extremes();
-        self.agree(self.check_finite())?;
+        self.domain.agree(self.check_finite())?;
         if !(self.probes.is_empty() && self.series.is_empty()) && self.schedule.due(self.time) {
             self.record_probes();
             self.record_series();

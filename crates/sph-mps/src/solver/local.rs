@@ -86,38 +86,6 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         Ok(self)
     }
 
-    /// The largest `x` over the ranks, NaN if it is NaN on any (`x` itself on one process).
-    pub(super) fn reduce_max_or_nan(&self, x: f64) -> f64 {
-        self.domain.as_ref().map_or(x, |d| d.comm().max_or_nan(x))
-    }
-
-    /// Sums over the ranks (`x` itself on one process).
-    pub(super) fn reduce_sum(&self, x: &[f64]) -> Vec<f64> {
-        self.domain.as_ref().map_or(x.to_vec(), |d| d.comm().sum(x))
-    }
-
-    /// Whether particle `i` counts in sums over the body (the owned ones on a rank).
-    pub(super) fn counts(&self, i: usize) -> bool {
-        self.domain.as_ref().is_none_or(|d| d.owned()[i])
-    }
-
-    /// A local result that every rank must agree on: if another rank failed, this one fails
-    /// too (so no rank waits for a partner that stopped).
-    pub(super) fn agree(&self, result: Result<(), Error>) -> Result<(), Error> {
-        let Some(d) = &self.domain else {
-            return result;
-        };
-        if d.comm().all(result.is_ok()) {
-            return result;
-        }
-        result?;
-        Err(Error::invalid(
-            "state",
-            "another rank's state",
-            "finite on every rank (another rank reported the failure)",
-        ))
-    }
-
     /// Overwrites the halo's velocities and accelerations with their owners' (the step's one
     /// message per neighbouring rank).
     pub(super) fn exchange_halo(&mut self) {
