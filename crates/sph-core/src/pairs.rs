@@ -105,7 +105,9 @@ fn reversed<D: Dim>(p: PairKernel<D>) -> PairKernel<D> {
 /// computed, and the slots `(i, j < i)`, which receive the reversed data of their mirror
 /// `(j, i)`. Built once per neighbour list in one pass over its pairs; [`Self::fill`] then
 /// does the work of [`fill_pair_kernels`] with half the square roots, divisions and kernel
-/// evaluations, bit for bit the same result.
+/// evaluations, bit for bit the same result, in one parallel region: each task computes its
+/// block of rows and copies the mirrors that lie in that block; the few copies across blocks
+/// follow on the calling thread.
 ///
 /// # Example
 /// ```
@@ -130,14 +132,13 @@ pub struct PairSymmetry {
     upper_start: Vec<usize>,
     /// Slots `(i, j ≥ i)`, absolute, grouped by row.
     upper: Vec<u32>,
-    /// Row `i`'s copied slots are `lower[lower_start[i]..lower_start[i + 1]]`.
-    lower_start: Vec<usize>,
-    /// `(k, m)`: the slot `k` of `(i, j < i)` and the slot `m` of its mirror `(j, i)`.
-    ///
-    /// Invariant (what makes [`PairSymmetry::fill`]'s second pass sound): every `k` and
-    /// every `m` is `< pairs`, the `k` are distinct, and no `m` is any `k` (an `m` is an
-    /// upper slot, a `k` a lower one, of the same list).
-    lower: Vec<(u32, u32)>,
+    /// Row `i`'s copies within its block are `local[local_start[i]..local_start[i + 1]]`.
+    local_start: Vec<usize>,
+    /// `(k, m)`: the slot `k` of `(i, j < i)` and the slot `m` of its mirror `(j, i)`, with `j`
+    /// in the same block of [`crate::parallel::gather_blocks`] as `i`.
+    local: Vec<(u32, u32)>,
+    /// The same for `j` in another block (copied after the parallel region).
+    cross: Vec<(u32, u32)>,
 }
 
 impl PairSymmetry {
@@ -165,9 +166,8 @@ impl PairSymmetry {
             lower_start[i + 1] = lower_start[i] + below;
         }
         // The transpose of the upper halves: walking the rows `j` in ascending order, each
-        // upper slot `m = (j, i > j)` goes to row `i`'s bucket, to be matched with row `i`'s
-        // slot of `j` (found through `slot_of`, valid while row `i` is scanned).
-        let mut lower = vec![(u32::MAX, u32::MAX); lower_start[n]];
+        // upper slot `m = (j, i > j)` goes to row `i`'s bucket as `(j, m)`.
+        let mut bucket = vec![(u32::MAX, u32::MAX); lower_start[n]];
         let mut fill = lower_start.clone();
         for j in 0..n {
             for &m in &upper[upper_start[j]..upper_start[j + 1]] {
@@ -177,12 +177,19 @@ impl PairSymmetry {
                     if slot >= lower_start[i + 1] {
                         return None;
                     }
-                    lower[slot] = (j as u32, m);
+                    bucket[slot] = (j as u32, m);
                     fill[i] += 1;
                 }
             }
         }
+        // Match each bucket entry with row `i`'s slot of `j` (through `slot_of`, valid while
+        // row `i` is scanned; a stale or consumed entry fails the range check).
         let mut slot_of = vec![u32::MAX; n];
+        let mut local_start = Vec::with_capacity(n + 1);
+        let mut local = Vec::with_capacity(lower_start[n]);
+        let mut cross = Vec::new();
+        local_start.push(0);
+        let block: Vec<usize> = (0..n).map(|i| crate::parallel::block_of(n, i)).collect();
         for i in 0..n {
             if fill[i] != lower_start[i + 1] {
                 return None;
@@ -193,29 +200,32 @@ impl PairSymmetry {
                     slot_of[j] = k as u32;
                 }
             }
-            for entry in &mut lower[lower_start[i]..lower_start[i + 1]] {
-                // The bucket entry holds (j, m); row `i`'s slot of `j` must exist and be used
-                // once (a stale or consumed `slot_of` fails the range check).
-                let j = entry.0 as usize;
+            for &(j, m) in &bucket[lower_start[i]..lower_start[i + 1]] {
+                let j = j as usize;
                 let k = std::mem::replace(&mut slot_of[j], u32::MAX) as usize;
                 if !(offsets[i]..offsets[i + 1]).contains(&k) || indices[k] as usize != j {
                     return None;
                 }
-                entry.0 = k as u32;
+                if block[j] == block[i] {
+                    local.push((k as u32, m));
+                } else {
+                    cross.push((k as u32, m));
+                }
             }
+            local_start.push(local.len());
         }
         Some(Self {
             pairs,
             upper_start,
             upper,
-            lower_start,
-            lower,
+            local_start,
+            local,
+            cross,
         })
     }
 
     /// [`fill_pair_kernels`]`(positions, positions, list, kernel, out)` for the list these
-    /// halves were built from: pass 1 computes the slots `(i, j ≥ i)` row by row, pass 2 copies
-    /// each reversed into its mirror `(j, i)`. Identical bits, any thread count.
+    /// halves were built from, identical bits for any thread count.
     ///
     /// # Panics
     /// If `list` or `out` does not match the list the halves were built from in length.
@@ -238,50 +248,22 @@ impl PairSymmetry {
         );
         assert_eq!(out.len(), self.pairs, "pair buffer length");
         let (offsets, indices) = (list.offsets(), list.indices());
-        crate::parallel::gather_slices(offsets, out, &|i, slots: &mut [PairKernel<D>]| {
-            let (xi, start) = (positions[i], offsets[i]);
-            for &k in &self.upper[self.upper_start[i]..self.upper_start[i + 1]] {
-                let j = indices[k as usize] as usize;
-                slots[k as usize - start] = pair_kernel::<D, K>(xi - positions[j], kernel);
-            }
-        });
-        let shared = SharedSlots(out.as_mut_ptr());
-        let copy_row = |i: usize| {
-            for &(k, m) in &self.lower[self.lower_start[i]..self.lower_start[i + 1]] {
-                // SAFETY: by the invariant of `lower`, `k` and `m` are in bounds of `out`
-                // (length `self.pairs`, asserted), each `k` is written by exactly one call
-                // (rows partition `lower`), and no `m` is written during this pass.
-                unsafe {
-                    let p = shared.get().add(m as usize).read();
-                    shared.get().add(k as usize).write(reversed(p));
+        crate::parallel::gather_blocks(offsets, out, &|rows, block: &mut [PairKernel<D>]| {
+            let base = offsets[rows.start];
+            for i in rows.clone() {
+                let xi = positions[i];
+                for &k in &self.upper[self.upper_start[i]..self.upper_start[i + 1]] {
+                    let j = indices[k as usize] as usize;
+                    block[k as usize - base] = pair_kernel::<D, K>(xi - positions[j], kernel);
                 }
             }
-        };
-        let n = list.len();
-        if crate::parallel::worth_splitting(n) {
-            use rayon::prelude::*;
-            (0..n)
-                .into_par_iter()
-                .with_min_len(crate::parallel::MIN_PARTICLES_PER_TASK)
-                .for_each(copy_row);
-        } else {
-            (0..n).for_each(copy_row);
+            for &(k, m) in &self.local[self.local_start[rows.start]..self.local_start[rows.end]] {
+                block[k as usize - base] = reversed(block[m as usize - base]);
+            }
+        });
+        for &(k, m) in &self.cross {
+            out[k as usize] = reversed(out[m as usize]);
         }
-    }
-}
-
-/// A raw pointer that may cross threads, for [`PairSymmetry::fill`]'s second pass (disjoint
-/// writes, reads of slots nobody writes).
-#[derive(Clone, Copy)]
-struct SharedSlots<T>(*mut T);
-// SAFETY: used only by `PairSymmetry::fill`, whose tasks write disjoint slots and read only
-// slots that no task writes in the same pass.
-unsafe impl<T: Send> Send for SharedSlots<T> {}
-unsafe impl<T: Send> Sync for SharedSlots<T> {}
-impl<T> SharedSlots<T> {
-    /// The pointer (a method, so closures capture the whole `Sync` wrapper).
-    fn get(self) -> *mut T {
-        self.0
     }
 }
 

@@ -47,35 +47,68 @@ pub fn gather_slices<T: Send>(
     out: &mut [T],
     f: &(impl Fn(usize, &mut [T]) + Sync),
 ) {
+    gather_blocks(offsets, out, &|rows, mut block: &mut [T]| {
+        for i in rows {
+            let (slots, tail) =
+                std::mem::take(&mut block).split_at_mut(offsets[i + 1] - offsets[i]);
+            f(i, slots);
+            block = tail;
+        }
+    });
+}
+
+/// `f(rows, block)` for the blocks of particles [`gather_slices`] hands to one task each, where
+/// `block = &mut out[offsets[rows.start]..offsets[rows.end]]`: for work that needs a task's
+/// rows together. The blocks depend only on the particle count ([`block_of`] tells which block
+/// a particle is in), never on the thread count.
+///
+/// # Panics
+/// If `out.len() != offsets[last] - offsets[0]`.
+pub fn gather_blocks<T: Send>(
+    offsets: &[usize],
+    out: &mut [T],
+    f: &(impl Fn(std::ops::Range<usize>, &mut [T]) + Sync),
+) {
     let n = offsets.len().saturating_sub(1);
     if n == 0 {
         return;
     }
     assert_eq!(out.len(), offsets[n] - offsets[0], "pair buffer length");
-    split_slices(offsets, 0, n, out, f);
+    split_blocks(offsets, 0, n, out, f);
 }
 
-fn split_slices<T: Send>(
+/// The first particle of the block of [`gather_blocks`] over `n` particles that holds particle
+/// `i` (`i < n`).
+pub fn block_of(n: usize, i: usize) -> usize {
+    let (mut start, mut end) = (0, n);
+    while worth_splitting(end - start) {
+        let mid = start + (end - start) / 2;
+        if i < mid {
+            end = mid;
+        } else {
+            start = mid;
+        }
+    }
+    start
+}
+
+fn split_blocks<T: Send>(
     offsets: &[usize],
     start: usize,
     end: usize,
     out: &mut [T],
-    f: &(impl Fn(usize, &mut [T]) + Sync),
+    f: &(impl Fn(std::ops::Range<usize>, &mut [T]) + Sync),
 ) {
     if !worth_splitting(end - start) {
-        let mut rest = out;
-        for i in start..end {
-            let (slots, tail) = std::mem::take(&mut rest).split_at_mut(offsets[i + 1] - offsets[i]);
-            f(i, slots);
-            rest = tail;
-        }
+        f(start..end, out);
         return;
     }
+    // The same halving as `block_of`.
     let mid = start + (end - start) / 2;
     let (left, right) = out.split_at_mut(offsets[mid] - offsets[start]);
     rayon::join(
-        || split_slices(offsets, start, mid, left, f),
-        || split_slices(offsets, mid, end, right, f),
+        || split_blocks(offsets, start, mid, left, f),
+        || split_blocks(offsets, mid, end, right, f),
     );
 }
 
@@ -99,6 +132,21 @@ mod tests {
             });
             for i in 0..n {
                 assert!(out[offsets[i]..offsets[i + 1]].iter().all(|&s| s == i));
+            }
+        }
+    }
+
+    #[test]
+    fn blocks_are_those_block_of_names() {
+        for n in [1usize, 1023, 1024, 5000, 70_001] {
+            let offsets: Vec<usize> = (0..=n).collect();
+            let mut out = vec![usize::MAX; n];
+            gather_blocks(&offsets, &mut out, &|rows, block: &mut [usize]| {
+                assert_eq!(block.len(), rows.len());
+                block.iter_mut().for_each(|b| *b = rows.start);
+            });
+            for (i, &b) in out.iter().enumerate() {
+                assert_eq!(b, block_of(n, i), "particle {i} of {n}");
             }
         }
     }

@@ -41,7 +41,8 @@ pub struct Energy {
     pub kinetic: f64,
     /// Energy of the equation of state, `Σ m c0² (ln(ρ/ρ0) + ρ0/ρ − 1)`.
     pub volumetric: f64,
-    /// Shear energy `Σ V τ:τ/(4G)` (for ENOG from the output shear stress: an estimate).
+    /// Shear energy `Σ V τ:τ/(4G)` (for ENOG from the output shear stress: an estimate; ENOG
+    /// without it: the exact work done against `A_s` when the budget keeps it, else NaN).
     pub shear: f64,
 }
 

@@ -1168,13 +1168,21 @@ impl<D: Dim> UlSolver<D> {
             .zip(&self.masses)
             .map(|(&rho, &m)| pressure_energy(m, rho, self.rho0, self.c0))
             .sum();
-        let shear = self
-            .stress
-            .iter()
-            .zip(&self.masses)
-            .zip(&self.densities)
-            .map(|((&t, &m), &rho)| shear_energy::<D>(t, m / rho, self.g))
-            .sum();
+        let shear = if self.tracks_stress {
+            self.stress
+                .iter()
+                .zip(&self.masses)
+                .zip(&self.densities)
+                .map(|((&t, &m), &rho)| shear_energy::<D>(t, m / rho, self.g))
+                .sum()
+        } else if self.params.energy_budget {
+            // ENOG without its output-only τ: the energy stored by the shear acceleration is
+            // the work done against it, which the budget accumulates exactly.
+            -self.work.shear
+        } else {
+            // Neither τ nor the shear work is kept: not known (the summary shows null).
+            f64::NAN
+        };
         Energy {
             kinetic,
             volumetric,
