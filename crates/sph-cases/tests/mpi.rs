@@ -26,6 +26,18 @@ fn mpirun(ranks: usize, args: &[&str]) -> std::process::Output {
 
 /// Runs `case` with `method` on `ranks` ranks into `out` and reads the results.
 fn run(ranks: usize, case: &str, method: &str, sets: &[&str], out: &Path) -> FileContents {
+    run_with(ranks, case, method, sets, out, false)
+}
+
+/// [`run`], with per-rank output (`--per-rank-output`, read back with `read_ranks`) or not.
+fn run_with(
+    ranks: usize,
+    case: &str,
+    method: &str,
+    sets: &[&str],
+    out: &Path,
+    per_rank: bool,
+) -> FileContents {
     let mut args = vec![
         "run",
         case,
@@ -40,6 +52,9 @@ fn run(ranks: usize, case: &str, method: &str, sets: &[&str], out: &Path) -> Fil
         args.extend(["--set", s]);
     }
     args.extend(["--out", out.to_str().expect("utf-8 path")]);
+    if per_rank {
+        args.push("--per-rank-output");
+    }
     let o = mpirun(ranks, &args);
     assert!(
         o.status.success(),
@@ -47,18 +62,24 @@ fn run(ranks: usize, case: &str, method: &str, sets: &[&str], out: &Path) -> Fil
         String::from_utf8_lossy(&o.stdout),
         String::from_utf8_lossy(&o.stderr)
     );
-    sph_output::read_file(out.join(format!("{case}-{method}.h5"))).expect("results")
+    if per_rank {
+        sph_output::read_ranks(&out.join(format!("{case}-{method}"))).expect("results")
+    } else {
+        sph_output::read_file(out.join(format!("{case}-{method}.h5"))).expect("results")
+    }
 }
 
-/// Runs `case` on 1, 2 and 3 ranks and checks that every snapshot field and every probe of the
-/// 2- and 3-rank runs equal the single-rank run's bit for bit, and the energy drift (a sum
+/// Runs `case` on 1, 2 and 3 ranks (3 with per-rank output) and checks that every snapshot
+/// field and every probe of the 2- and 3-rank runs equal the single-rank run's bit for bit, and the energy drift (a sum
 /// over the ranks) to round-off.
 fn same_results_on_1_2_3_ranks(case: &str, method: &str, sets: &[&str], snapshots: usize) {
     let dir = std::env::temp_dir().join(format!("sph-mpi-{case}-{}", std::process::id()));
     let one = run(1, case, method, sets, &dir.join("1"));
     assert_eq!(one.snapshots.len(), snapshots);
     for ranks in [2, 3] {
-        let many = run(ranks, case, method, sets, &dir.join(ranks.to_string()));
+        // 3 ranks write per-rank files, read back as one body.
+        let out = dir.join(ranks.to_string());
+        let many = run_with(ranks, case, method, sets, &out, ranks == 3);
         assert_eq!(many.summary.get("ranks"), Some(&ranks.into()));
         assert_eq!(many.snapshots.len(), one.snapshots.len());
         for (a, b) in one.snapshots.iter().zip(&many.snapshots) {
@@ -113,35 +134,53 @@ fn the_mps_cantilever_plate_on_2_and_3_ranks_writes_the_single_rank_results() {
 
 #[test]
 fn a_two_rank_run_checkpoints_per_rank_and_resumes_on_two_ranks_bit_for_bit() {
-    let dir = std::env::temp_dir().join(format!("sph-mpi-ckpt-{}", std::process::id()));
+    checkpoint_and_resume_on_two_ranks(false);
+}
+
+#[test]
+fn a_two_rank_run_with_per_rank_output_resumes_bit_for_bit() {
+    checkpoint_and_resume_on_two_ranks(true);
+}
+
+/// A 2-rank run with checkpoints, its results deleted, resumed on 2 ranks: the same results as
+/// one rank's; on 3 ranks the resume is refused.
+fn checkpoint_and_resume_on_two_ranks(per_rank: bool) {
+    let dir = std::env::temp_dir().join(format!("sph-mpi-ckpt-{per_rank}-{}", std::process::id()));
     let sets = ["resolution=4", "end_time=0.02"];
     let one = run(1, "bending-column-3d", "tl-hf", &sets, &dir.join("1"));
     let out = dir.join("2");
-    let o = mpirun(
-        2,
-        &[
-            "run",
-            "bending-column-3d",
-            "--method",
-            "tl-hf",
-            "--set",
-            sets[0],
-            "--set",
-            sets[1],
-            "--threads",
-            "1",
-            "--log-every",
-            "0",
-            "--checkpoint-every",
-            "0.007",
-            "--out",
-            out.to_str().expect("utf-8"),
-        ],
-    );
+    let mut args = vec![
+        "run",
+        "bending-column-3d",
+        "--method",
+        "tl-hf",
+        "--set",
+        sets[0],
+        "--set",
+        sets[1],
+        "--threads",
+        "1",
+        "--log-every",
+        "0",
+        "--checkpoint-every",
+        "0.007",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ];
+    if per_rank {
+        args.push("--per-rank-output");
+    }
+    let o = mpirun(2, &args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let ckpt = out.join("bending-column-3d-tl-hf.ckpt");
     assert!(ckpt.exists() && out.join("bending-column-3d-tl-hf.ckpt.rank1").exists());
     std::fs::remove_file(out.join("bending-column-3d-tl-hf.h5")).expect("results");
+    if per_rank {
+        for r in 0..2 {
+            let f = out.join(format!("bending-column-3d-tl-hf.rank{r}.h5"));
+            std::fs::remove_file(f).expect("rank results");
+        }
+    }
     let resume = |ranks: usize| {
         mpirun(
             ranks,
@@ -150,8 +189,13 @@ fn a_two_rank_run_checkpoints_per_rank_and_resumes_on_two_ranks_bit_for_bit() {
     };
     let o = resume(2);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let resumed =
-        sph_output::read_file(out.join("bending-column-3d-tl-hf.h5")).expect("resumed results");
+    let base = out.join("bending-column-3d-tl-hf");
+    let resumed = if per_rank {
+        sph_output::read_ranks(&base)
+    } else {
+        sph_output::read_file(sph_output::h5_path(&base))
+    }
+    .expect("resumed results");
     assert_eq!(resumed.snapshots.len(), one.snapshots.len());
     for (a, b) in one.snapshots.iter().zip(&resumed.snapshots) {
         for d in &a.datasets {

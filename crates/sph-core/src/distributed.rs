@@ -422,6 +422,47 @@ pub fn vector_of<D: Dim>(c: &[f64]) -> D::Vector {
     D::vector([c[0], c[1], if D::D == 3 { c[2] } else { 0.0 }])
 }
 
+/// The particles one rank owns, read from its local solver without any communication: what
+/// the rank's own results file holds in a run with per-rank output.
+pub struct OwnedShare<'a, D: Dim> {
+    local: &'a dyn Solver<D>,
+    domain: &'a Domain,
+}
+
+impl<D: Dim> OwnedShare<'_, D> {
+    /// This rank.
+    pub fn rank(&self) -> usize {
+        self.domain.comm.rank()
+    }
+
+    /// The number of particles each rank owns, in rank order (known to every rank).
+    pub fn counts(&self) -> Vec<usize> {
+        self.domain.all_owned.iter().map(Vec::len).collect()
+    }
+
+    /// The global index of each owned particle (ascending).
+    pub fn ids(&self) -> Vec<u32> {
+        self.domain.all_owned[self.rank()].clone()
+    }
+
+    /// Positions of the owned particles.
+    pub fn positions(&self) -> Vec<D::Vector> {
+        let p = self.local.positions();
+        self.domain
+            .owned_local
+            .iter()
+            .map(|&l| p[l as usize])
+            .collect()
+    }
+
+    /// A named field of the owned particles ([`Solver::field`]), `None` for an unknown name.
+    pub fn field(&self, name: &str) -> Option<Field<D>> {
+        self.local
+            .field(name)
+            .map(|f| f.pick(&self.domain.owned_local))
+    }
+}
+
 /// A solver of one rank's particles presented to the run driver as the whole body: positions,
 /// velocities and fields are gathered from the ranks in global order when asked for (every rank
 /// asks at the same points of the run, so the gathers match). The wrapped solver reduces its
@@ -538,6 +579,13 @@ impl<D: Dim, S: Solver<D>> Solver<D> for DistributedSolver<D, S> {
 
     fn ranks(&self) -> usize {
         self.domain.comm.size()
+    }
+
+    fn owned_share(&self) -> Option<OwnedShare<'_, D>> {
+        Some(OwnedShare {
+            local: &self.inner,
+            domain: &self.domain,
+        })
     }
 
     /// This rank's state (its particles and halo), after its rank and the rank count: one

@@ -15,6 +15,20 @@ pub enum Field<D: Dim> {
     Matrix(Vec<D::Matrix>),
 }
 
+impl<D: Dim> Field<D> {
+    /// The entries at `rows`, in that order (a rank's own particles of a local field).
+    pub fn pick(&self, rows: &[u32]) -> Self {
+        fn take<T: Copy>(v: &[T], rows: &[u32]) -> Vec<T> {
+            rows.iter().map(|&r| v[r as usize]).collect()
+        }
+        match self {
+            Field::Scalar(v) => Field::Scalar(take(v, rows)),
+            Field::Vector(v) => Field::Vector(take(v, rows)),
+            Field::Matrix(v) => Field::Matrix(take(v, rows)),
+        }
+    }
+}
+
 /// What one step did.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepInfo {
@@ -181,6 +195,13 @@ pub trait Solver<D: Dim>: Send {
     /// [`crate::distributed::DistributedSolver`]).
     fn ranks(&self) -> usize {
         1
+    }
+
+    /// In a distributed run, the particles this process owns, read without gathering (what
+    /// its per-rank results file holds); `None` on one process, where the whole body is the
+    /// process's share.
+    fn owned_share(&self) -> Option<crate::distributed::OwnedShare<'_, D>> {
+        None
     }
 
     /// Advances until `time() ≥ t_end` (the last step is shortened to land on it). Returns the

@@ -94,6 +94,12 @@ pub struct RunOptions {
     /// driver, rank 0 writes the results, and each rank writes its own checkpoint (the plan's
     /// path is then the rank's, [`crate::checkpoint::rank_path`]).
     pub ranks: Option<Arc<dyn sph_core::comm::Communicator>>,
+    /// Per-rank output ([`sph_output::read_ranks`] reads it back): every rank writes the
+    /// snapshots of the particles it owns to `<output>.rank<r>.h5`, without gathering them;
+    /// rank 0 writes `<output>.h5` (meta, probes, series, summary with the rank count) and
+    /// `<output>.xmf`, which presents the ranks' files as one body. Off: rank 0 gathers the
+    /// snapshots into the one file `<output>.h5`. Needs `output`.
+    pub per_rank_output: bool,
 }
 
 /// A flag a signal handler sets to the signal's number (0: not interrupted).
@@ -343,7 +349,7 @@ pub fn finite_or_null(x: f64) -> Json {
 /// caller decides the exit status from `record.failure` and `record.interrupted`.
 pub fn drive<D: Dim>(
     solver: &mut dyn Solver<D>,
-    meta: Map<String, Json>,
+    mut meta: Map<String, Json>,
     schedule: Schedule,
     fields: &[&str],
     options: &RunOptions,
@@ -356,6 +362,13 @@ pub fn drive<D: Dim>(
     }
     let comm = options.ranks.as_ref().filter(|c| c.size() > 1);
     let root = comm.is_none_or(|c| c.rank() == 0);
+    if options.per_rank_output && options.output.is_none() {
+        return Err(DriverError::InvalidValue {
+            key: "per_rank_output".into(),
+            value: "on".into(),
+            allowed: "off when no results file is written".into(),
+        });
+    }
     let estimate = crate::guard::Estimate::of(solver, &schedule, fields, options);
     estimate.check(&schedule, options)?;
     let mut record = RunRecord {
@@ -363,6 +376,10 @@ pub fn drive<D: Dim>(
         estimate: Some(estimate.clone()),
         ..Default::default()
     };
+    if options.per_rank_output {
+        // Part of the run's identity: a checkpoint of one layout cannot resume the other.
+        meta.insert("output".into(), json!("per rank"));
+    }
     let resumed = match &options.resume {
         Some(c) => Some(restore(solver, &meta, c)?),
         None => None,
@@ -388,12 +405,27 @@ pub fn drive<D: Dim>(
             }
             let mut w = create_writer_with(path, options.backend, options.compression)?;
             w.write_meta(&meta)?;
-            for snap in resumed.iter().flat_map(|d| &d.snapshots) {
-                w.write_snapshot(snap.time, snap.step, &snap.datasets)?;
+            if !options.per_rank_output {
+                for snap in resumed.iter().flat_map(|d| &d.snapshots) {
+                    w.write_snapshot(snap.time, snap.step, &snap.datasets)?;
+                }
             }
             Some(w)
         }
         None => None,
+    };
+    // Per-rank output: this rank's own file of snapshots, and on rank 0 what the XDMF file
+    // presenting them as one body needs.
+    let mut own: Option<RankOutput> = match &options.output {
+        Some(path) if options.per_rank_output => {
+            let rank = comm.map_or(0, |c| c.rank());
+            let mut o = RankOutput::create(path, rank, &meta, options)?;
+            for snap in resumed.iter().flat_map(|d| &d.snapshots) {
+                o.write(snap.time, snap.step, &snap.datasets)?;
+            }
+            Some(o)
+        }
+        _ => None,
     };
     let interrupted = || {
         let sig = options
@@ -438,14 +470,25 @@ pub fn drive<D: Dim>(
             next_monitor = next_event(t, schedule.monitor_interval, end);
         }
         if t + eps >= next_snapshot {
-            if let Some(w) = writer.as_mut() {
-                let sets = snapshot_datasets(solver, fields);
-                match w.write_snapshot(t, solver.step_count(), &sets) {
+            let written = match (own.as_mut(), writer.as_mut()) {
+                (Some(o), _) => {
+                    let sets = owned_snapshot_datasets(solver, fields);
+                    Some((o.write(t, solver.step_count(), &sets), sets))
+                }
+                (None, Some(w)) => {
+                    let sets = snapshot_datasets(solver, fields);
+                    Some((w.write_snapshot(t, solver.step_count(), &sets), sets))
+                }
+                (None, None) => None,
+            };
+            if let Some((result, sets)) = written {
+                match result {
                     Err(e) => record.failure = Some(format!("writing the results: {e}")),
                     Ok(()) => {
                         last_snapshot = t;
-                        // Rank 0's checkpoint re-creates the results file.
-                        if options.checkpoint.is_some() && root {
+                        // The checkpoint re-creates the results file: rank 0's, or with
+                        // per-rank output each rank's.
+                        if options.checkpoint.is_some() && (root || own.is_some()) {
                             kept.push(SavedSnapshot {
                                 time: t,
                                 step: solver.step_count(),
@@ -461,7 +504,7 @@ pub fn drive<D: Dim>(
             if !c.all(record.failure.is_none()) {
                 record
                     .failure
-                    .get_or_insert_with(|| "writing the results failed on rank 0".into());
+                    .get_or_insert_with(|| "writing the results failed on another rank".into());
             }
         }
         if record.failure.is_some() {
@@ -515,10 +558,14 @@ pub fn drive<D: Dim>(
     report(solver, &record, true);
     // Interrupted between snapshots: keep the state reached (it is a good one).
     if record.interrupted.is_some() && record.failure.is_none() && solver.time() > last_snapshot {
-        if let Some(w) = writer.as_mut() {
-            if let Err(e) = write_snapshot(w.as_mut(), solver, fields) {
-                record.failure = Some(format!("writing the results: {e}"));
-            }
+        let (t, step) = (solver.time(), solver.step_count());
+        let written = match (own.as_mut(), writer.as_mut()) {
+            (Some(o), _) => o.write(t, step, &owned_snapshot_datasets(solver, fields)),
+            (None, Some(w)) => w.write_snapshot(t, step, &snapshot_datasets(solver, fields)),
+            (None, None) => Ok(()),
+        };
+        if let Err(e) = written {
+            record.failure = Some(format!("writing the results: {e}"));
         }
     }
     record.steps = solver.step_count();
@@ -526,16 +573,52 @@ pub fn drive<D: Dim>(
     record.time = solver.time();
     record.wall_seconds = started.elapsed().as_secs_f64();
     let mut summary = record.standard_summary(&meta_str(&meta, "case"), solver.method());
-    if let Some(c) = comm {
-        summary.insert("ranks".into(), json!(c.size()));
+    if comm.is_some() || own.is_some() {
+        summary.insert("ranks".into(), json!(comm.map_or(1, |c| c.size())));
+    }
+    if own.is_some() {
+        summary.insert("output".into(), json!("per rank"));
     }
     for (k, v) in summarise(solver, &record) {
         summary.insert(k, v);
     }
+    // Each rank completes its own file; rank 0 then presents them as one body.
+    let mut collection = None;
+    if let Some(o) = own {
+        match o.complete(&summary) {
+            Ok(c) => collection = Some(c),
+            Err(e) => {
+                record
+                    .failure
+                    .get_or_insert(format!("completing this rank's results: {e}"));
+            }
+        }
+        if let Some(c) = comm {
+            if !c.all(collection.is_some()) {
+                record
+                    .failure
+                    .get_or_insert_with(|| "completing the results failed on another rank".into());
+            }
+        }
+        summary.insert("status".into(), json!(record.status()));
+    }
     if let Some(w) = writer {
         let temp = w.temp_path().to_path_buf();
         match complete::<D>(w, solver, &summary) {
-            Ok(file) => record.file = Some(file),
+            Ok(file) => {
+                if let (Some(c), Some(base)) = (collection.filter(|_| root), &options.output) {
+                    let counts = solver
+                        .owned_share()
+                        .map_or_else(|| vec![solver.len()], |s| s.counts());
+                    if let Err(e) = c.write(base, &counts) {
+                        record
+                            .failure
+                            .get_or_insert(format!("writing the XDMF file: {e}"));
+                        summary.insert("status".into(), json!(record.status()));
+                    }
+                }
+                record.file = Some(file);
+            }
             Err(e) => {
                 let first = record.failure.take();
                 record.failure = Some(format!(
@@ -785,13 +868,111 @@ pub fn field_dataset<D: Dim>(name: &str, field: Field<D>) -> Dataset {
     }
 }
 
-fn write_snapshot<D: Dim>(
-    w: &mut dyn ResultWriter,
-    solver: &dyn Solver<D>,
-    fields: &[&str],
-) -> Result<(), sph_output::OutputError> {
-    let sets = snapshot_datasets(solver, fields);
-    w.write_snapshot(solver.time(), solver.step_count(), &sets)
+/// A rank's own results file in a run with per-rank output ([`RunOptions::per_rank_output`]),
+/// and on rank 0 the record of its snapshots for the XDMF file of the whole body.
+struct RankOutput {
+    writer: Box<dyn ResultWriter>,
+    rank: usize,
+    collection: sph_output::RankCollection,
+}
+
+impl RankOutput {
+    /// Starts `<base>.rank<rank>.h5` with the run's `/meta` plus `rank`.
+    fn create(
+        base: &std::path::Path,
+        rank: usize,
+        meta: &Map<String, Json>,
+        options: &RunOptions,
+    ) -> Result<Self, DriverError> {
+        let path = sph_output::rank_base(base, rank);
+        // Every rank: on a cluster the ranks may write to their own nodes' disks.
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| DriverError::Io {
+                path: dir.display().to_string(),
+                source: e,
+            })?;
+        }
+        let mut writer = create_writer_with(&path, options.backend, options.compression)?;
+        let mut meta = meta.clone();
+        meta.insert("rank".into(), json!(rank));
+        writer.write_meta(&meta)?;
+        Ok(Self {
+            writer,
+            rank,
+            collection: sph_output::RankCollection::new(),
+        })
+    }
+
+    fn write(
+        &mut self,
+        time: f64,
+        step: u64,
+        sets: &[Dataset],
+    ) -> Result<(), sph_output::OutputError> {
+        self.writer.write_snapshot(time, step, sets)?;
+        if self.rank == 0 {
+            self.collection.add(time, sets);
+        }
+        Ok(())
+    }
+
+    /// Completes the file with the run's status and this rank's particle count; returns the
+    /// snapshots' record.
+    fn complete(
+        mut self,
+        summary: &Map<String, Json>,
+    ) -> Result<sph_output::RankCollection, sph_output::OutputError> {
+        let mut own = Map::new();
+        for key in ["case", "method", "status", "time_reached", "steps", "ranks"] {
+            if let Some(v) = summary.get(key) {
+                own.insert(key.into(), v.clone());
+            }
+        }
+        own.insert("rank".into(), json!(self.rank));
+        self.writer.write_summary(&own)?;
+        self.writer.finish()?;
+        Ok(self.collection)
+    }
+}
+
+/// The datasets of a snapshot of the particles this process owns (per-rank output): the
+/// positions, `id` (the row in this file, the XDMF connectivity), `global_id` (the particle's
+/// index in the body) and the requested fields the solver offers. Nothing is gathered.
+fn owned_snapshot_datasets<D: Dim>(solver: &dyn Solver<D>, fields: &[&str]) -> Vec<Dataset> {
+    let Some(share) = solver.owned_share() else {
+        // One process: its share is the whole body.
+        let mut sets = snapshot_datasets(solver, fields);
+        let ids = sets[1].clone();
+        sets[1] = Dataset::u64_scalars("id", &(0..solver.len() as u64).collect::<Vec<_>>());
+        sets.insert(
+            2,
+            Dataset {
+                name: "global_id".into(),
+                ..ids
+            },
+        );
+        return sets;
+    };
+    let pos: Vec<[f64; 3]> = share
+        .positions()
+        .iter()
+        .map(|&x| D::to_vec3(x).to_array())
+        .collect();
+    let ids: Vec<u64> = share.ids().iter().map(|&i| u64::from(i)).collect();
+    let mut sets = vec![
+        Dataset::vectors("position", &pos),
+        Dataset::u64_scalars("id", &(0..ids.len() as u64).collect::<Vec<_>>()),
+        Dataset::u64_scalars("global_id", &ids),
+    ];
+    for &name in fields {
+        if name == "id" || name == "global_id" {
+            continue;
+        }
+        if let Some(f) = share.field(name) {
+            sets.push(field_dataset::<D>(name, f));
+        }
+    }
+    sets
 }
 
 /// The datasets of a snapshot: the positions and the requested fields the solver offers.

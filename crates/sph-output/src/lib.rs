@@ -101,6 +101,7 @@ mod error;
 #[cfg(feature = "hdf5-metno")]
 mod metno;
 mod pure;
+mod ranks;
 mod read;
 pub mod safety;
 mod writer;
@@ -110,6 +111,7 @@ use std::path::{Path, PathBuf};
 
 pub use data::{Dataset, DatasetData};
 pub use error::OutputError;
+pub use ranks::{rank_base, read_ranks, RankCollection};
 pub use read::{read_file, FileContents, Probe, Series, Snapshot};
 
 /// Value of the root attribute `format`.

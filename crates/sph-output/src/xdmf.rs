@@ -88,8 +88,19 @@ pub fn escape(s: &str) -> String {
     out
 }
 
-fn data_item(out: &mut String, h5_name: &str, snap: &str, field: &XdmfField, indent: &str) {
-    let dims: Vec<String> = field.shape.iter().map(usize::to_string).collect();
+/// A data item of `field` with `rows` as its first dimension (a rank's share of the body).
+fn data_item_rows(
+    out: &mut String,
+    h5_name: &str,
+    snap: &str,
+    field: &XdmfField,
+    rows: usize,
+    indent: &str,
+) {
+    let mut dims: Vec<String> = field.shape.iter().map(usize::to_string).collect();
+    if let Some(d) = dims.first_mut() {
+        *d = rows.to_string();
+    }
     // Int, not UInt: see the module documentation.
     let number_type = if field.is_u64 { "Int" } else { "Float" };
     let _ = writeln!(
@@ -102,20 +113,7 @@ fn data_item(out: &mut String, h5_name: &str, snap: &str, field: &XdmfField, ind
     );
 }
 
-fn attribute(out: &mut String, h5_name: &str, snap: &str, field: &XdmfField) {
-    let _ = writeln!(
-        out,
-        "        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">",
-        escape(&field.name),
-        attribute_type(&field.shape)
-    );
-    data_item(out, h5_name, snap, field, "          ");
-    out.push_str("        </Attribute>\n");
-}
-
-/// Renders the sidecar for `snapshots` of the file `h5_name` (a bare file name).
-pub(crate) fn render(h5_name: &str, snapshots: &[XdmfSnapshot]) -> String {
-    let mut out = String::new();
+fn header(out: &mut String) {
     out.push_str("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
     out.push_str("<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n");
     out.push_str("<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n");
@@ -123,55 +121,143 @@ pub(crate) fn render(h5_name: &str, snapshots: &[XdmfSnapshot]) -> String {
     out.push_str(
         "    <Grid Name=\"snapshots\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
     );
-    for snap in snapshots {
-        let Some(pos) = snap.fields.iter().find(|f| f.name == "position") else {
-            continue;
-        };
-        let n = pos.shape[0];
-        let _ = writeln!(
-            out,
-            "      <Grid Name=\"{}\" GridType=\"Uniform\">",
-            escape(&snap.name)
-        );
-        let _ = writeln!(out, "        <Time Value=\"{:?}\"/>", snap.time);
-        let _ = writeln!(
-            out,
-            "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{n}\" NodesPerElement=\"1\">"
-        );
-        match snap
-            .vertex_ids
-            .as_ref()
-            .and_then(|id| snap.fields.iter().find(|f| &f.name == id))
-        {
-            Some(ids) => data_item(&mut out, h5_name, &snap.name, ids, "          "),
-            None => {
-                let _ = write!(
-                    out,
-                    "          <DataItem Dimensions=\"{n}\" NumberType=\"Int\" Precision=\"8\" Format=\"XML\">"
-                );
-                for k in 0..n {
-                    let _ = write!(out, "{}{k}", if k == 0 { "" } else { " " });
-                }
-                out.push_str("</DataItem>\n");
-            }
-        }
-        out.push_str("        </Topology>\n");
-        out.push_str("        <Geometry GeometryType=\"XYZ\">\n");
-        data_item(&mut out, h5_name, &snap.name, pos, "          ");
-        out.push_str("        </Geometry>\n");
-        // `position` first (see the module documentation), then the others in file order.
-        attribute(&mut out, h5_name, &snap.name, pos);
-        for field in &snap.fields {
-            if field.name == "position" || field.shape.first() != Some(&n) {
-                continue;
-            }
-            attribute(&mut out, h5_name, &snap.name, field);
-        }
-        out.push_str("      </Grid>\n");
-    }
+}
+
+fn footer(out: &mut String) {
     out.push_str("    </Grid>\n");
     out.push_str("  </Domain>\n");
     out.push_str("</Xdmf>\n");
+}
+
+/// One uniform grid: the snapshot `snap` of the file `h5_name`, with `n` particles (the first
+/// dimension of its per-particle datasets there), indented by `ind`; `time` is written when
+/// the grid is a member of the temporal collection itself.
+fn uniform_grid(
+    out: &mut String,
+    h5_name: &str,
+    grid_name: &str,
+    snap: &XdmfSnapshot,
+    n: usize,
+    time: Option<f64>,
+    ind: &str,
+) {
+    let Some(pos) = snap.fields.iter().find(|f| f.name == "position") else {
+        return;
+    };
+    let n0 = pos.shape[0];
+    let item = |out: &mut String, field: &XdmfField, indent: &str| {
+        data_item_rows(
+            out,
+            h5_name,
+            &snap.name,
+            field,
+            n,
+            &format!("{ind}{indent}"),
+        )
+    };
+    let _ = writeln!(
+        out,
+        "{ind}<Grid Name=\"{}\" GridType=\"Uniform\">",
+        escape(grid_name)
+    );
+    if let Some(t) = time {
+        let _ = writeln!(out, "{ind}  <Time Value=\"{t:?}\"/>");
+    }
+    let _ = writeln!(
+        out,
+        "{ind}  <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{n}\" NodesPerElement=\"1\">"
+    );
+    match snap
+        .vertex_ids
+        .as_ref()
+        .and_then(|id| snap.fields.iter().find(|f| &f.name == id))
+    {
+        Some(ids) => item(out, ids, "    "),
+        None => {
+            let _ = write!(
+                out,
+                "{ind}    <DataItem Dimensions=\"{n}\" NumberType=\"Int\" Precision=\"8\" Format=\"XML\">"
+            );
+            for k in 0..n {
+                let _ = write!(out, "{}{k}", if k == 0 { "" } else { " " });
+            }
+            out.push_str("</DataItem>\n");
+        }
+    }
+    let _ = writeln!(out, "{ind}  </Topology>");
+    let _ = writeln!(out, "{ind}  <Geometry GeometryType=\"XYZ\">");
+    item(out, pos, "    ");
+    let _ = writeln!(out, "{ind}  </Geometry>");
+    // `position` first (see the module documentation), then the others in file order.
+    let per_particle = snap
+        .fields
+        .iter()
+        .filter(|f| f.name != "position" && f.shape.first() == Some(&n0));
+    for field in std::iter::once(pos).chain(per_particle) {
+        let _ = writeln!(
+            out,
+            "{ind}  <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">",
+            escape(&field.name),
+            attribute_type(&field.shape)
+        );
+        item(out, field, "    ");
+        let _ = writeln!(out, "{ind}  </Attribute>");
+    }
+    let _ = writeln!(out, "{ind}</Grid>");
+}
+
+/// Renders the sidecar for `snapshots` of the file `h5_name` (a bare file name).
+pub(crate) fn render(h5_name: &str, snapshots: &[XdmfSnapshot]) -> String {
+    let mut out = String::new();
+    header(&mut out);
+    for snap in snapshots {
+        if let Some(pos) = snap.fields.iter().find(|f| f.name == "position") {
+            let n = pos.shape[0];
+            uniform_grid(
+                &mut out,
+                h5_name,
+                &snap.name,
+                snap,
+                n,
+                Some(snap.time),
+                "      ",
+            );
+        }
+    }
+    footer(&mut out);
+    out
+}
+
+/// Renders the XDMF that presents the per-rank files `rank_files` of a distributed run as one
+/// body: per snapshot a spatial collection (with the snapshot's time) of one uniform grid per
+/// rank, `counts[r]` particles read from `rank_files[r]`. `snapshots` are the snapshots as rank
+/// 0 wrote them (every rank writes the same datasets; only the particle count differs).
+pub(crate) fn render_ranks(
+    rank_files: &[String],
+    counts: &[usize],
+    snapshots: &[XdmfSnapshot],
+) -> String {
+    let mut out = String::new();
+    header(&mut out);
+    for snap in snapshots {
+        if !snap.fields.iter().any(|f| f.name == "position") {
+            continue;
+        }
+        let _ = writeln!(
+            out,
+            "      <Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">",
+            escape(&snap.name)
+        );
+        let _ = writeln!(out, "        <Time Value=\"{:?}\"/>", snap.time);
+        for (r, (file, &n)) in rank_files.iter().zip(counts).enumerate() {
+            if n > 0 {
+                let name = format!("rank{r}");
+                uniform_grid(&mut out, file, &name, snap, n, None, "        ");
+            }
+        }
+        out.push_str("      </Grid>\n");
+    }
+    footer(&mut out);
     out
 }
 

@@ -1,0 +1,203 @@
+//! Per-rank output of distributed runs (`RunOptions::per_rank_output`, `sph run
+//! --per-rank-output`), on in-process ranks (`sph_core::comm::ThreadRanks`): each rank writes
+//! only its own particles, and `sph_output::read_ranks` gives back, bit for bit, the snapshots
+//! of the single-process run; the XDMF file lists every rank's grid with its particle count.
+
+use serde_json::Value;
+use sph_cases::{find_case, RunOptions};
+use sph_core::comm::{Communicator, ThreadRanks};
+use sph_output::{read_file, read_ranks, FileContents};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+const CASE: &str = "cantilever-plate-2d";
+const METHOD: &str = "mps";
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("sph-per-rank-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Runs the small cantilever plate (MPS) on `ranks` in-process ranks (`None`: one process, no ranks).
+fn run(ranks: Option<usize>, base: &Path, per_rank: bool) -> Vec<String> {
+    let case = find_case(CASE).unwrap();
+    let mut params = case.params_for(METHOD);
+    for s in ["resolution=4", "end_time=0.005", "snapshots=4"] {
+        params.apply_assignment(s).unwrap();
+    }
+    let go_here = |comm: Option<Arc<dyn Communicator>>| {
+        let options = RunOptions {
+            output: Some(base.to_path_buf()),
+            ranks: comm,
+            per_rank_output: per_rank,
+            ..Default::default()
+        };
+        let (record, summary) = case.run(METHOD, &params, &options).unwrap();
+        assert!(record.failure.is_none(), "{:?}", record.failure);
+        summary["status"].as_str().unwrap().to_string()
+    };
+    // Each rank in a pool of its own, as an MPI process has: the driver steps inside its
+    // pool, and ranks sharing one pool of fewer threads would wait on each other for ever.
+    let go = |comm: Option<Arc<dyn Communicator>>| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        pool.install(|| go_here(comm))
+    };
+    match ranks {
+        None => vec![go(None)],
+        Some(n) => ThreadRanks::run(n, |c| go(Some(c))),
+    }
+}
+
+fn assert_same_snapshots(one: &FileContents, many: &FileContents, what: &str) {
+    assert_eq!(one.snapshots.len(), many.snapshots.len(), "{what}");
+    for (a, b) in one.snapshots.iter().zip(&many.snapshots) {
+        assert_eq!((a.time, a.step), (b.time, b.step), "{what}");
+        let names = |s: &sph_output::Snapshot| {
+            s.datasets
+                .iter()
+                .map(|d| d.name.clone())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(names(a), names(b), "{what}");
+        for (d, e) in a.datasets.iter().zip(&b.datasets) {
+            assert!(d.data == e.data, "{what}: {} at t = {}", d.name, a.time);
+        }
+    }
+    assert_eq!(one.probes, many.probes, "{what}: probes");
+}
+
+/// The `(file, rows)` of every rank grid of the first snapshot of an XDMF file.
+fn grids_of_first_snapshot(xmf: &str) -> Vec<(String, usize)> {
+    let first = xmf.split("CollectionType=\"Spatial\"").nth(1).unwrap();
+    let first = first.split("</Grid>\n      </Grid>").next().unwrap();
+    first
+        .split("<Geometry GeometryType=\"XYZ\">")
+        .skip(1)
+        .map(|g| {
+            let dims = g.split("Dimensions=\"").nth(1).unwrap();
+            let rows = dims.split(' ').next().unwrap().parse().unwrap();
+            let file = g.split("Format=\"HDF\">").nth(1).unwrap();
+            (file.split(':').next().unwrap().to_string(), rows)
+        })
+        .collect()
+}
+
+/// Every `HDF` data item of the XDMF text names a dataset of a file in `dir` with the stated
+/// dimensions.
+fn every_data_item_resolves(xmf: &str, dir: &Path) {
+    let mut files = std::collections::HashMap::new();
+    let mut items = 0;
+    for item in xmf.split("<DataItem ").skip(1) {
+        let Some((head, rest)) = item.split_once('>') else {
+            panic!("{item}")
+        };
+        if !head.contains("Format=\"HDF\"") {
+            continue;
+        }
+        items += 1;
+        let dims: Vec<usize> = head
+            .split("Dimensions=\"")
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .split(' ')
+            .map(|d| d.parse().unwrap())
+            .collect();
+        let reference = rest.split('<').next().unwrap();
+        let (file, path) = reference.split_once(':').unwrap();
+        let contents = files
+            .entry(file.to_string())
+            .or_insert_with(|| read_file(dir.join(file)).unwrap());
+        let parts: Vec<&str> = path.trim_start_matches('/').split('/').collect();
+        let [group, snapshot, name] = parts[..] else {
+            panic!("{path}")
+        };
+        assert_eq!(group, "snapshots");
+        let snap = contents.snapshots.iter().find(|s| s.name == snapshot);
+        let data = snap
+            .and_then(|s| s.dataset(name))
+            .unwrap_or_else(|| panic!("{path}"));
+        assert_eq!(data.shape(), &dims[..], "{reference}");
+    }
+    assert!(items > 0);
+}
+
+#[test]
+fn per_rank_files_read_back_as_the_single_process_results() {
+    let dir = scratch("same");
+    run(None, &dir.join("one/c"), false);
+    let one = read_file(dir.join("one/c.h5")).unwrap();
+    assert_eq!(one.snapshots.len(), 5);
+    for ranks in [1, 2, 3] {
+        let base = dir.join(format!("{ranks}/c"));
+        let statuses = run(Some(ranks), &base, true);
+        assert!(statuses.iter().all(|s| s == "completed"), "{statuses:?}");
+        let many = read_ranks(&base).unwrap();
+        assert_same_snapshots(&one, &many, &format!("{ranks} ranks"));
+        assert_eq!(many.summary["ranks"], Value::from(ranks));
+        assert_eq!(many.summary["output"], "per rank");
+        assert_eq!(many.summary["steps"], one.summary["steps"]);
+        // The main file holds no snapshots; each rank's file only its own particles.
+        assert!(read_file(dir.join(format!("{ranks}/c.h5")))
+            .unwrap()
+            .snapshots
+            .is_empty());
+        let n = one.snapshots[0].dataset("position").unwrap().shape()[0];
+        let mut contiguous = true;
+        let rows: Vec<usize> = (0..ranks)
+            .map(|r| {
+                let f = read_file(dir.join(format!("{ranks}/c.rank{r}.h5"))).unwrap();
+                assert_eq!(f.meta["rank"], Value::from(r));
+                assert_eq!(f.summary["status"], "completed");
+                let g = f.snapshots[0].dataset("global_id").unwrap();
+                if let sph_output::DatasetData::U64 { values, .. } = &g.data {
+                    contiguous &= values.windows(2).all(|w| w[1] == w[0] + 1);
+                }
+                f.snapshots[0].dataset("position").unwrap().shape()[0]
+            })
+            .collect();
+        assert_eq!(rows.iter().sum::<usize>(), n);
+        if ranks > 1 {
+            assert!(
+                rows.iter().all(|&r| r < n),
+                "{rows:?}: split between the ranks"
+            );
+            // Otherwise putting the ranks' rows one after the other would pass too.
+            assert!(
+                !contiguous,
+                "{ranks} ranks: each owns a range of global ids"
+            );
+        }
+        // The XDMF file shows the ranks' files as one body.
+        let xmf = std::fs::read_to_string(dir.join(format!("{ranks}/c.xmf"))).unwrap();
+        assert_eq!(xmf.matches("CollectionType=\"Spatial\"").count(), 5);
+        let grids = grids_of_first_snapshot(&xmf);
+        let expected: Vec<(String, usize)> = rows
+            .iter()
+            .enumerate()
+            .map(|(r, &k)| (format!("c.rank{r}.h5"), k))
+            .collect();
+        assert_eq!(grids, expected);
+        every_data_item_resolves(&xmf, &dir.join(ranks.to_string()));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn per_rank_output_without_a_results_file_is_refused() {
+    let case = find_case(CASE).unwrap();
+    let params = case.params_for(METHOD);
+    let options = RunOptions {
+        per_rank_output: true,
+        ..Default::default()
+    };
+    let e = case.run(METHOD, &params, &options).unwrap_err().to_string();
+    assert!(e.contains("per_rank_output"), "{e}");
+}
