@@ -167,8 +167,10 @@ fn main() {
     let _ = writeln!(
         doc,
         "\nThe latency column assumes 26 neighbouring ranks (a subdomain inside a 3D \
-         decomposition) and 3 collectives. Output is not in this model: snapshots and monitor \
-         samples gather whole fields to every rank (docs/distributed.md)."
+         decomposition) and 3 collectives. Output is not in this model: with per-rank output \
+         (`--per-rank-output`) each rank writes its own particles and nothing is gathered; \
+         otherwise snapshots gather whole fields to every rank; monitor samples gather the \
+         disorder indicator (docs/distributed.md)."
     );
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).expect("output directory");
