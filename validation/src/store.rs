@@ -338,7 +338,8 @@ pub fn run_or_load_then(
 }
 
 /// The finished results file of `out` and its summary, if `dir/command.txt` records exactly
-/// `command` (the file was made by it) and the run ended (its summary has a status).
+/// `command` (the file was made by it) and the run ended by itself (its summary has a status
+/// that is not `interrupted …`).
 fn adoptable(dir: &Path, out: &Path, command: &str) -> Option<(PathBuf, Map<String, Value>)> {
     let recorded = std::fs::read_to_string(dir.join("command.txt")).ok()?;
     if recorded.trim() != command {
@@ -346,7 +347,9 @@ fn adoptable(dir: &Path, out: &Path, command: &str) -> Option<(PathBuf, Map<Stri
     }
     let file = sph_output::h5_path(out);
     let summary = sph_output::read_file(&file).ok()?.summary;
-    summary.contains_key("status").then_some((file, summary))
+    // A run stopped from outside (`interrupted at t = …`) is not what the command makes.
+    let status = summary.get("status")?.as_str()?;
+    (!status.starts_with("interrupted")).then_some((file, summary))
 }
 
 /// A number with `digits` decimals, or `–` when absent.
@@ -455,7 +458,42 @@ fn sci(x: f64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{sci, thousands};
+    use super::{adoptable, sci, thousands};
+
+    /// A results file whose summary has `status`, made by `command`, in a fresh directory.
+    fn made(name: &str, command: &str, status: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+        let dir = std::env::temp_dir().join(format!("sph-adopt-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("command.txt"), format!("{command}\n")).unwrap();
+        let out = dir.join("r");
+        let mut w = sph_output::create_writer(&out, sph_output::Backend::Pure).unwrap();
+        let summary = serde_json::json!({ "status": status });
+        w.write_summary(summary.as_object().unwrap()).unwrap();
+        w.finish().unwrap();
+        (dir, out)
+    }
+
+    #[test]
+    fn only_runs_that_ended_by_themselves_are_adopted() {
+        for (status, adopted) in [
+            ("completed", true),
+            ("failed: non-finite velocity", true),
+            ("interrupted at t = 0.0052 s (SIGTERM)", false),
+        ] {
+            let (dir, out) = made(&status[..4], "sph run x", status);
+            assert_eq!(
+                adoptable(&dir, &out, "sph run x").is_some(),
+                adopted,
+                "{status}"
+            );
+            assert!(
+                adoptable(&dir, &out, "sph run y").is_none(),
+                "another command"
+            );
+            std::fs::remove_dir_all(&dir).unwrap();
+        }
+    }
 
     #[test]
     fn numbers_print_readably() {

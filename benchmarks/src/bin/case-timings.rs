@@ -6,7 +6,7 @@
 //!
 //! ```text
 //! cargo build --release -p sph-cases --bin sph
-//! cargo run --release -p sph-benchmarks --bin case-timings [-- --repeats 3] [--only anchors|extreme]
+//! cargo run --release -p sph-benchmarks --bin case-timings [-- --repeats 3] [--only anchors|extreme|impacts]
 //! ```
 //! Time only on a quiet machine (no build, test or other run): the numbers are wall-clock.
 
@@ -110,6 +110,38 @@ fn scenes() -> Vec<Scene> {
             group: "extreme",
             label: "stent, point forces, TL-HF, dp = wall/3, to 0.02 ms",
             args: vec!["stent-3d", "--method", "tl-hf", "--set", "end_time=2e-5"],
+            threads: &[2],
+        },
+        Scene {
+            group: "impacts",
+            label: "colliding hollow balls 3D, UL-ENOG, dp 2 mm, v0 0.08 c0, to 8 ms",
+            args: vec![
+                "colliding-balls-3d",
+                "--method",
+                "ul-enog",
+                "--set",
+                "dp=0.002",
+            ],
+            threads: &[2],
+        },
+        Scene {
+            group: "impacts",
+            label: "ball–plate 3D, UL-ENOG, dp 5 mm, v0 0.12 c0, to 2 ms",
+            args: vec![
+                "ball-plate-3d",
+                "--method",
+                "ul-enog",
+                "--set",
+                "dp=0.005",
+                "--set",
+                "end_time=0.002",
+            ],
+            threads: &[2],
+        },
+        Scene {
+            group: "impacts",
+            label: "Hertz impact of two spheres, UL-ENOG, R/dp 10, whole contact",
+            args: vec!["hertz-impact-3d", "--method", "ul-enog"],
             threads: &[2],
         },
     ]

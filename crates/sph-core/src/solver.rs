@@ -191,6 +191,13 @@ pub trait Solver<D: Dim>: Send {
         None
     }
 
+    /// Counters and checks particular to the method, by name, for the run's summary (UL:
+    /// acoustic sub-steps, neighbour rebuilds, isolated particles, the momentum balance); none
+    /// by default. Read by the case's summary, so the results file carries them too.
+    fn figures(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
+
     /// Number of ranks the run is distributed over (1 unless the solver is a
     /// [`crate::distributed::DistributedSolver`]).
     fn ranks(&self) -> usize {

@@ -1330,6 +1330,21 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         self.shear.method_name()
     }
 
+    /// `acoustic_steps`, `neighbour_rebuilds`, `isolated_max`, `momentum_balance` (the norm of
+    /// [`UlSolver::momentum_balance`], unscaled) and `first_isolation_time` (NaN: none).
+    fn figures(&self) -> Vec<(&'static str, f64)> {
+        vec![
+            ("acoustic_steps", self.acoustic_steps as f64),
+            ("neighbour_rebuilds", self.rebuilds as f64),
+            ("isolated_max", self.isolated_max as f64),
+            ("momentum_balance", D::norm(self.momentum_balance())),
+            (
+                "first_isolation_time",
+                self.first_isolation.unwrap_or(f64::NAN),
+            ),
+        ]
+    }
+
     /// Dual stepping: one advection step of `min(Δt_ad, max_dt)` (eq 21): rebuild, then
     /// acoustic sub-steps (eq 22–25) until the advection step is filled exactly. Single
     /// stepping: rebuild, then one acoustic step of `min(Δt_ac, max_dt)`.

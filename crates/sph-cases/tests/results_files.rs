@@ -1,7 +1,8 @@
-//! Per-rank output of distributed runs (`RunOptions::per_rank_output`, `sph run
-//! --per-rank-output`), on in-process ranks (`sph_core::comm::ThreadRanks`): each rank writes
-//! only its own particles, and `sph_output::read_ranks` gives back, bit for bit, the snapshots
-//! of the single-process run; the XDMF file lists every rank's grid with its particle count.
+//! What results files hold: the whole summary a run reports, and the per-rank output of
+//! distributed runs (`RunOptions::per_rank_output`, `sph run --per-rank-output`) on in-process
+//! ranks (`sph_core::comm::ThreadRanks`): each rank writes only its own particles, and
+//! `sph_output::read_ranks` gives back, bit for bit, the snapshots of the single-process run;
+//! the XDMF file lists every rank's grid with its particle count.
 
 use serde_json::Value;
 use sph_cases::{find_case, RunOptions};
@@ -200,4 +201,53 @@ fn per_rank_output_without_a_results_file_is_refused() {
     };
     let e = case.run(METHOD, &params, &options).unwrap_err().to_string();
     assert!(e.contains("per_rank_output"), "{e}");
+}
+
+/// The results file's `/summary` holds every figure the run reports (before, UL's sub-step
+/// counts, momentum balance and exact-work budget were added after the file was completed,
+/// so a results file lacked what `sph run` printed).
+#[test]
+fn the_results_file_carries_the_whole_summary() {
+    let dir = scratch("summary");
+    for (case, method, sets) in [
+        (
+            "oscillating-plate-2d",
+            "ul-enog",
+            ["resolution=4", "end_time=0.01"],
+        ),
+        (
+            "oscillating-plate-2d",
+            "tl-hf",
+            ["resolution=4", "end_time=0.01"],
+        ),
+    ] {
+        let case_ = find_case(case).unwrap();
+        let mut params = case_.params_for(method);
+        for s in sets {
+            params.apply_assignment(s).unwrap();
+        }
+        let base = dir.join(method);
+        let options = RunOptions {
+            output: Some(base.clone()),
+            ..Default::default()
+        };
+        let (_, summary) = case_.run(method, &params, &options).unwrap();
+        let file = read_file(sph_output::h5_path(&base)).unwrap().summary;
+        for (key, value) in &summary {
+            if key == "wall_seconds" {
+                continue; // the total, taken after the file is completed
+            }
+            assert_eq!(file.get(key), Some(value), "{method}: {key}");
+        }
+        if method == "ul-enog" {
+            for key in [
+                "acoustic_steps",
+                "momentum_balance",
+                "energy_residual_exact_work",
+            ] {
+                assert!(file.contains_key(key), "{key}");
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
