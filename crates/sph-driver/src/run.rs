@@ -416,10 +416,10 @@ pub fn drive<D: Dim>(
     };
     // Per-rank output: this rank's own file of snapshots, and on rank 0 what the XDMF file
     // presenting them as one body needs.
-    let mut own: Option<RankOutput> = match &options.output {
+    let mut own: Option<crate::ranks::RankOutput> = match &options.output {
         Some(path) if options.per_rank_output => {
             let rank = comm.map_or(0, |c| c.rank());
-            let mut o = RankOutput::create(path, rank, &meta, options)?;
+            let mut o = crate::ranks::RankOutput::create(path, rank, &meta, options)?;
             for snap in resumed.iter().flat_map(|d| &d.snapshots) {
                 o.write(snap.time, snap.step, &snap.datasets)?;
             }
@@ -472,7 +472,7 @@ pub fn drive<D: Dim>(
         if t + eps >= next_snapshot {
             let written = match (own.as_mut(), writer.as_mut()) {
                 (Some(o), _) => {
-                    let sets = owned_snapshot_datasets(solver, fields);
+                    let sets = crate::ranks::owned_snapshot_datasets(solver, fields);
                     Some((o.write(t, solver.step_count(), &sets), sets))
                 }
                 (None, Some(w)) => {
@@ -560,7 +560,11 @@ pub fn drive<D: Dim>(
     if record.interrupted.is_some() && record.failure.is_none() && solver.time() > last_snapshot {
         let (t, step) = (solver.time(), solver.step_count());
         let written = match (own.as_mut(), writer.as_mut()) {
-            (Some(o), _) => o.write(t, step, &owned_snapshot_datasets(solver, fields)),
+            (Some(o), _) => o.write(
+                t,
+                step,
+                &crate::ranks::owned_snapshot_datasets(solver, fields),
+            ),
             (None, Some(w)) => w.write_snapshot(t, step, &snapshot_datasets(solver, fields)),
             (None, None) => Ok(()),
         };
@@ -868,115 +872,8 @@ pub fn field_dataset<D: Dim>(name: &str, field: Field<D>) -> Dataset {
     }
 }
 
-/// A rank's own results file in a run with per-rank output ([`RunOptions::per_rank_output`]),
-/// and on rank 0 the record of its snapshots for the XDMF file of the whole body.
-struct RankOutput {
-    writer: Box<dyn ResultWriter>,
-    rank: usize,
-    collection: sph_output::RankCollection,
-}
-
-impl RankOutput {
-    /// Starts `<base>.rank<rank>.h5` with the run's `/meta` plus `rank`.
-    fn create(
-        base: &std::path::Path,
-        rank: usize,
-        meta: &Map<String, Json>,
-        options: &RunOptions,
-    ) -> Result<Self, DriverError> {
-        let path = sph_output::rank_base(base, rank);
-        // Every rank: on a cluster the ranks may write to their own nodes' disks.
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| DriverError::Io {
-                path: dir.display().to_string(),
-                source: e,
-            })?;
-        }
-        let mut writer = create_writer_with(&path, options.backend, options.compression)?;
-        let mut meta = meta.clone();
-        meta.insert("rank".into(), json!(rank));
-        writer.write_meta(&meta)?;
-        Ok(Self {
-            writer,
-            rank,
-            collection: sph_output::RankCollection::new(),
-        })
-    }
-
-    fn write(
-        &mut self,
-        time: f64,
-        step: u64,
-        sets: &[Dataset],
-    ) -> Result<(), sph_output::OutputError> {
-        self.writer.write_snapshot(time, step, sets)?;
-        if self.rank == 0 {
-            self.collection.add(time, sets);
-        }
-        Ok(())
-    }
-
-    /// Completes the file with the run's status and this rank's particle count; returns the
-    /// snapshots' record.
-    fn complete(
-        mut self,
-        summary: &Map<String, Json>,
-    ) -> Result<sph_output::RankCollection, sph_output::OutputError> {
-        let mut own = Map::new();
-        for key in ["case", "method", "status", "time_reached", "steps", "ranks"] {
-            if let Some(v) = summary.get(key) {
-                own.insert(key.into(), v.clone());
-            }
-        }
-        own.insert("rank".into(), json!(self.rank));
-        self.writer.write_summary(&own)?;
-        self.writer.finish()?;
-        Ok(self.collection)
-    }
-}
-
-/// The datasets of a snapshot of the particles this process owns (per-rank output): the
-/// positions, `id` (the row in this file, the XDMF connectivity), `global_id` (the particle's
-/// index in the body) and the requested fields the solver offers. Nothing is gathered.
-fn owned_snapshot_datasets<D: Dim>(solver: &dyn Solver<D>, fields: &[&str]) -> Vec<Dataset> {
-    let Some(share) = solver.owned_share() else {
-        // One process: its share is the whole body.
-        let mut sets = snapshot_datasets(solver, fields);
-        let ids = sets[1].clone();
-        sets[1] = Dataset::u64_scalars("id", &(0..solver.len() as u64).collect::<Vec<_>>());
-        sets.insert(
-            2,
-            Dataset {
-                name: "global_id".into(),
-                ..ids
-            },
-        );
-        return sets;
-    };
-    let pos: Vec<[f64; 3]> = share
-        .positions()
-        .iter()
-        .map(|&x| D::to_vec3(x).to_array())
-        .collect();
-    let ids: Vec<u64> = share.ids().iter().map(|&i| u64::from(i)).collect();
-    let mut sets = vec![
-        Dataset::vectors("position", &pos),
-        Dataset::u64_scalars("id", &(0..ids.len() as u64).collect::<Vec<_>>()),
-        Dataset::u64_scalars("global_id", &ids),
-    ];
-    for &name in fields {
-        if name == "id" || name == "global_id" {
-            continue;
-        }
-        if let Some(f) = share.field(name) {
-            sets.push(field_dataset::<D>(name, f));
-        }
-    }
-    sets
-}
-
 /// The datasets of a snapshot: the positions and the requested fields the solver offers.
-fn snapshot_datasets<D: Dim>(solver: &dyn Solver<D>, fields: &[&str]) -> Vec<Dataset> {
+pub(crate) fn snapshot_datasets<D: Dim>(solver: &dyn Solver<D>, fields: &[&str]) -> Vec<Dataset> {
     let pos: Vec<[f64; 3]> = solver
         .positions()
         .iter()

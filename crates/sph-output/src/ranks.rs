@@ -18,7 +18,7 @@ use crate::data::{Dataset, DatasetData};
 use crate::read::{read_file, FileContents, Snapshot};
 use crate::safety::TempFile;
 use crate::writer::snapshot_name;
-use crate::xdmf::{self, XdmfField, XdmfSnapshot};
+use crate::xdmf::{self, XdmfSnapshot};
 use crate::{with_suffix, OutputError};
 
 /// The results path (without extension) of rank `rank`'s file: `<base>.rank<rank>`.
@@ -42,22 +42,8 @@ impl RankCollection {
     /// Records the next snapshot, with the datasets rank 0 wrote for it (every rank writes the
     /// same datasets for its own particles).
     pub fn add(&mut self, time: f64, datasets: &[Dataset]) {
-        self.snapshots.push(XdmfSnapshot {
-            name: snapshot_name(self.snapshots.len()),
-            time,
-            vertex_ids: datasets
-                .iter()
-                .any(|d| d.name == "id" && d.data.type_name() == "u64")
-                .then(|| "id".to_string()),
-            fields: datasets
-                .iter()
-                .map(|d| XdmfField {
-                    name: d.name.clone(),
-                    is_u64: d.data.type_name() == "u64",
-                    shape: d.shape().to_vec(),
-                })
-                .collect(),
-        });
+        let name = snapshot_name(self.snapshots.len());
+        self.snapshots.push(XdmfSnapshot::of(name, time, datasets));
     }
 
     /// Writes `<base>.xmf` (through a temporary file) for ranks owning `counts[r]` particles:

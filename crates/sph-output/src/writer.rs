@@ -5,9 +5,9 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value};
 
-use crate::data::{check_name, Dataset, DatasetData};
+use crate::data::{check_name, Dataset};
 use crate::safety::{OutputLock, TempFile};
-use crate::xdmf::{self, XdmfField, XdmfSnapshot};
+use crate::xdmf::{self, XdmfSnapshot};
 use crate::{Compression, OutputError, ResultWriter, FORMAT_NAME, FORMAT_VERSION};
 
 /// An attribute value, in the types both backends write identically.
@@ -207,33 +207,7 @@ impl ResultWriter for LayoutWriter {
             datasets: datasets.iter().collect(),
         };
         self.sink.write_group(&spec, false)?;
-        // The particle ids, if they can serve as the topology's connectivity.
-        let vertex_ids = position.and_then(|p| {
-            let n = p.shape()[0];
-            datasets
-                .iter()
-                .find(|d| d.name == "id")
-                .filter(|d| matches!(d.shape(), [m] | [m, 1] if *m == n))
-                .and_then(|d| match &d.data {
-                    DatasetData::U64 { values, .. } if xdmf::is_permutation(values, n) => {
-                        Some(d.name.clone())
-                    }
-                    _ => None,
-                })
-        });
-        self.snapshots.push(XdmfSnapshot {
-            name,
-            time,
-            vertex_ids,
-            fields: datasets
-                .iter()
-                .map(|d| XdmfField {
-                    name: d.name.clone(),
-                    is_u64: d.data.type_name() == "u64",
-                    shape: d.shape().to_vec(),
-                })
-                .collect(),
-        });
+        self.snapshots.push(XdmfSnapshot::of(name, time, datasets));
         Ok(())
     }
 

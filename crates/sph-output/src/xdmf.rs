@@ -44,6 +44,41 @@ pub(crate) struct XdmfSnapshot {
     pub vertex_ids: Option<String>,
 }
 
+impl XdmfSnapshot {
+    /// What the sidecar needs of the snapshot `name` at `time` with these datasets; the
+    /// connectivity is the `id` dataset when it is a permutation of `0..n` (`n` = rows of
+    /// `position`).
+    pub(crate) fn of(name: String, time: f64, datasets: &[crate::Dataset]) -> Self {
+        let position = datasets.iter().find(|d| d.name == "position");
+        let vertex_ids = position.and_then(|p| {
+            let n = p.shape()[0];
+            datasets
+                .iter()
+                .find(|d| d.name == "id")
+                .filter(|d| matches!(d.shape(), [m] | [m, 1] if *m == n))
+                .and_then(|d| match &d.data {
+                    crate::DatasetData::U64 { values, .. } if is_permutation(values, n) => {
+                        Some(d.name.clone())
+                    }
+                    _ => None,
+                })
+        });
+        XdmfSnapshot {
+            name,
+            time,
+            vertex_ids,
+            fields: datasets
+                .iter()
+                .map(|d| XdmfField {
+                    name: d.name.clone(),
+                    is_u64: d.data.type_name() == "u64",
+                    shape: d.shape().to_vec(),
+                })
+                .collect(),
+        }
+    }
+}
+
 /// Whether `values` (a u64 dataset of `n` rows, one column) is a permutation of `0..n`: then
 /// it can serve as the connectivity of the `Polyvertex` topology.
 pub(crate) fn is_permutation(values: &[u64], n: usize) -> bool {
