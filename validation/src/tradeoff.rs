@@ -196,7 +196,7 @@ fn scenes() -> Vec<Scene> {
             case: "oscillating-plate-3d",
             fixed: &[],
             resolution_key: "resolution",
-            quick: &[2.0],
+            quick: &[],
             full: &[2.0, 3.0, 4.0],
             lines: vec![
                 line("ul-og", "ul-og", &[]),
@@ -225,6 +225,10 @@ struct Sweep {
     parameter: &'static str,
     quick: &'static [f64],
     full: &'static [f64],
+    /// Settings `--quick` adds to every run of the sweep (a coarser or shorter run, so the
+    /// quick map stays within minutes); its runs are stored apart (`…-quick`) and shown only
+    /// where the sweep has no run at the full settings.
+    quick_fixed: &'static [&'static str],
     /// What to know when reading the map (printed under its title; empty: nothing).
     note: &'static str,
 }
@@ -254,6 +258,7 @@ fn sweeps() -> Vec<Sweep> {
             parameter: "vf",
             quick: &[0.05, 0.15, 0.3],
             full: &[0.01, 0.05, 0.1, 0.15, 0.2, 0.3],
+            quick_fixed: &["resolution=5", "end_time=0.5"],
             note: "",
         },
         Sweep {
@@ -266,6 +271,7 @@ fn sweeps() -> Vec<Sweep> {
             parameter: "nu",
             quick: &[0.3, 0.45, 0.49],
             full: &[0.3, 0.4, 0.45, 0.49, 0.499, 0.4999],
+            quick_fixed: &["resolution=5"],
             note: "",
         },
         Sweep {
@@ -278,6 +284,7 @@ fn sweeps() -> Vec<Sweep> {
             parameter: "cfl",
             quick: &[0.3, 0.9, 1.2],
             full: &[0.3, 0.6, 0.8, 0.9, 0.99, 1.2],
+            quick_fixed: &["resolution=5", "end_time=0.5"],
             note: "",
         },
         Sweep {
@@ -289,6 +296,7 @@ fn sweeps() -> Vec<Sweep> {
             parameter: "ul_cfl_acoustic",
             quick: &[0.3, 0.9, 1.2],
             full: &[0.3, 0.4, 0.6, 0.8, 0.99, 1.2],
+            quick_fixed: &["resolution=5", "end_time=0.5"],
             note: "",
         },
         Sweep {
@@ -300,6 +308,7 @@ fn sweeps() -> Vec<Sweep> {
             parameter: "v0",
             quick: &[0.04, 0.1],
             full: &[0.04, 0.06, 0.08, 0.1, 0.12, 0.14],
+            quick_fixed: &["dp=0.002"],
             note: "",
         },
         Sweep {
@@ -311,6 +320,7 @@ fn sweeps() -> Vec<Sweep> {
             parameter: "compression",
             quick: &[0.2, 0.5],
             full: &[0.1, 0.2, 0.3, 0.4, 0.5, 0.6],
+            quick_fixed: &[],
             note: LARGE_DEFORMATION,
         },
         Sweep {
@@ -320,8 +330,9 @@ fn sweeps() -> Vec<Sweep> {
             methods: TL,
             fixed: &["resolution=15"],
             parameter: "stretch",
-            quick: &[2.0, 6.0, 11.0],
+            quick: &[2.0, 6.0],
             full: &[2.0, 3.0, 4.0, 6.0, 8.0, 11.0],
+            quick_fixed: &[],
             note: LARGE_DEFORMATION,
         },
         Sweep {
@@ -334,6 +345,7 @@ fn sweeps() -> Vec<Sweep> {
             parameter: "omega0",
             quick: &[105.0, 400.0],
             full: &[105.0, 200.0, 300.0, 400.0, 500.0, 600.0],
+            quick_fixed: &["end_time=0.1"],
             note: "",
         },
     ]
@@ -368,14 +380,26 @@ fn scene_set(scene: &Scene, line: &Line, res: f64) -> Vec<String> {
         .collect()
 }
 
-fn sweep_run_id(sweep: &Sweep, method: &str, value: f64) -> String {
-    format!("map-{}-{method}-{}", sweep.key, fmt_value(value))
+/// Whether the `--quick` runs of `sweep` differ from its full runs (then they are stored apart).
+fn has_quick_settings(sweep: &Sweep, quick: bool) -> bool {
+    quick && !sweep.quick_fixed.is_empty()
 }
 
-fn sweep_set(sweep: &Sweep, value: f64) -> Vec<String> {
+fn sweep_run_id(sweep: &Sweep, method: &str, value: f64, quick: bool) -> String {
+    let suffix = if has_quick_settings(sweep, quick) {
+        "-quick"
+    } else {
+        ""
+    };
+    format!("map-{}-{method}-{}{suffix}", sweep.key, fmt_value(value))
+}
+
+fn sweep_set(sweep: &Sweep, value: f64, quick: bool) -> Vec<String> {
+    let extra: &[&str] = if quick { sweep.quick_fixed } else { &[] };
     sweep
         .fixed
         .iter()
+        .chain(extra)
         .map(|s| s.to_string())
         .chain(std::iter::once(format!(
             "{}={}",
@@ -411,17 +435,24 @@ pub fn run_all(sel: Selection) -> Result<(), String> {
         for m in sweep.methods {
             for &v in values {
                 run_or_load(
-                    &sweep_run_id(&sweep, m, v),
+                    &sweep_run_id(&sweep, m, v, sel.quick),
                     sweep.case,
                     m,
-                    &sweep_set(&sweep, v),
+                    &sweep_set(&sweep, v, sel.quick),
                     sel.force,
                 )?;
             }
         }
     }
     if wanted("features") {
-        crate::features::run_all(sel.force)?;
+        if sel.quick {
+            println!(
+                "features: the feature-cost table is timed (median of three at one thread); \
+                 not part of --quick (`validate tradeoff --only features` makes it)"
+            );
+        } else {
+            crate::features::run_all(sel.force)?;
+        }
     }
     Ok(())
 }
@@ -879,15 +910,24 @@ fn sweep_section(md: &mut String, sweep: &Sweep, fig_dir: &Path) -> Result<bool,
     let mut values: Vec<f64> = sweep.quick.iter().chain(sweep.full).copied().collect();
     values.sort_by(f64::total_cmp);
     values.dedup();
-    let mut cells: Vec<(usize, usize, CostedRun)> = Vec::new();
-    for (mi, m) in sweep.methods.iter().enumerate() {
-        for (vi, &v) in values.iter().enumerate() {
-            if let Some(r) = crate::cost::load(&sweep_run_id(sweep, m, v)) {
-                if r.set == sweep_set(sweep, v) {
-                    cells.push((mi, vi, r));
+    // The runs at the full settings; where there are none, the `--quick` runs.
+    let stored = |quick: bool| {
+        let mut cells: Vec<(usize, usize, CostedRun)> = Vec::new();
+        for (mi, m) in sweep.methods.iter().enumerate() {
+            for (vi, &v) in values.iter().enumerate() {
+                if let Some(r) = crate::cost::load(&sweep_run_id(sweep, m, v, quick)) {
+                    if r.set == sweep_set(sweep, v, quick) {
+                        cells.push((mi, vi, r));
+                    }
                 }
             }
         }
+        cells
+    };
+    let mut cells = stored(false);
+    let quick = cells.is_empty() && !sweep.quick_fixed.is_empty();
+    if quick {
+        cells = stored(true);
     }
     if cells.is_empty() {
         return Ok(false);
@@ -899,6 +939,16 @@ fn sweep_section(md: &mut String, sweep: &Sweep, fig_dir: &Path) -> Result<bool,
     writeln!(md, "### {}\n", sweep.title).unwrap();
     if !sweep.note.is_empty() {
         writeln!(md, "{}\n", sweep.note).unwrap();
+    }
+    if quick {
+        writeln!(
+            md,
+            "*From the `--quick` runs*, which add `{}` to every command (the full sweep, \
+             `validate tradeoff --only {}`, replaces them).\n",
+            sweep.quick_fixed.join(" "),
+            sweep.key
+        )
+        .unwrap();
     }
     let png = format!("stability_{}.png", sweep.key);
     let heat: Vec<plot::MapCell> = cells
