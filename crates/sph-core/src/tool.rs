@@ -51,6 +51,16 @@ pub enum ToolShape<D: Dim> {
         /// Upper corner.
         max: D::Vector,
     },
+    /// A box whose edges and corners are rounded with `radius`: the points within `radius`
+    /// of the box `min + radius ≤ x ≤ max − radius`.
+    RoundedBox {
+        /// Lower corner (of the rounded box).
+        min: D::Vector,
+        /// Upper corner (of the rounded box).
+        max: D::Vector,
+        /// Radius of the edges and corners.
+        radius: f64,
+    },
     /// A ball (disc in 2D).
     Ball {
         /// Centre.
@@ -85,6 +95,29 @@ impl<D: Dim> ToolShape<D> {
             }
         }
         Ok(ToolShape::Box { min, max })
+    }
+
+    /// A box from its corners with edges and corners rounded by `radius` (0: [`Self::cuboid`]).
+    ///
+    /// # Errors
+    /// As [`Self::cuboid`], and a negative radius or one larger than half the box's smallest
+    /// side.
+    pub fn rounded_cuboid(min: D::Vector, max: D::Vector, radius: f64) -> Result<Self, Error> {
+        let sharp = Self::cuboid(min, max)?;
+        let half_side = (0..D::D)
+            .map(|k| 0.5 * (D::component(max, k) - D::component(min, k)))
+            .fold(f64::INFINITY, f64::min);
+        if !(radius.is_finite() && (0.0..=half_side).contains(&radius)) {
+            return Err(Error::invalid(
+                "tool corner radius",
+                radius,
+                &format!("0 <= radius <= {half_side} (half the box's smallest side)"),
+            ));
+        }
+        if radius == 0.0 {
+            return Ok(sharp);
+        }
+        Ok(ToolShape::RoundedBox { min, max, radius })
     }
 
     /// A ball (disc in 2D).
@@ -154,6 +187,19 @@ impl<D: Dim> ToolShape<D> {
                     (best, n)
                 }
             }
+            ToolShape::RoundedBox { min, max, radius } => {
+                // The box shrunk by the radius, then every distance less the radius.
+                let mut r = D::zero();
+                for k in 0..D::D {
+                    D::set_component(&mut r, k, radius);
+                }
+                let core = ToolShape::<D>::Box {
+                    min: min + r,
+                    max: max - r,
+                };
+                let (d, n) = core.distance(x);
+                (d - radius, n)
+            }
             ToolShape::Ball { centre, radius } => {
                 let r = x - centre;
                 let len = D::norm(r);
@@ -172,7 +218,7 @@ impl<D: Dim> ToolShape<D> {
     /// An axis-aligned box containing the shape (infinite extent for a half-space).
     pub fn bounds(&self) -> (D::Vector, D::Vector) {
         match *self {
-            ToolShape::Box { min, max } => (min, max),
+            ToolShape::Box { min, max } | ToolShape::RoundedBox { min, max, .. } => (min, max),
             ToolShape::Ball { centre, radius } => {
                 let mut r = D::zero();
                 for k in 0..D::D {
@@ -489,6 +535,43 @@ mod tests {
         assert!((d - 0.5).abs() < 1e-15, "{d}");
         assert!((n - DVec2::new(0.6, 0.8)).length() < 1e-15, "{n}");
         assert!(ToolShape::<D2>::cuboid(DVec2::ONE, DVec2::ZERO).is_err());
+    }
+
+    #[test]
+    fn rounded_box_distance_is_the_sharp_ones_off_the_corners_and_a_circle_on_them() {
+        let (min, max) = (DVec2::new(-1.0, 0.0), DVec2::new(1.0, 0.5));
+        let b = ToolShape::<D2>::rounded_cuboid(min, max, 0.2).unwrap();
+        let sharp = ToolShape::<D2>::cuboid(min, max).unwrap();
+        // On a flat face, the sharp box's distance and normal.
+        for x in [
+            DVec2::new(0.2, -0.3),
+            DVec2::new(0.9, 0.25),
+            DVec2::new(-0.5, 0.7),
+        ] {
+            let ((d, n), (e, m)) = (b.distance(x), sharp.distance(x));
+            assert!(
+                (d - e).abs() < 1e-15 && (n - m).length() < 1e-15,
+                "{x}: {d} {e}"
+            );
+        }
+        // Beyond a corner: the distance to the circle of radius 0.2 about (0.8, 0.3).
+        let x = DVec2::new(1.3, 0.9);
+        let c = DVec2::new(0.8, 0.3);
+        let (d, n) = b.distance(x);
+        assert!((d - ((x - c).length() - 0.2)).abs() < 1e-15, "{d}");
+        assert!((n - (x - c).normalize()).length() < 1e-15, "{n}");
+        // The corner point of the sharp box is outside the rounded one.
+        assert!(b.distance(max).0 > 0.0 && sharp.distance(max).0 == 0.0);
+        assert_eq!(
+            ToolShape::<D2>::rounded_cuboid(min, max, 0.0).unwrap(),
+            sharp
+        );
+        assert!(
+            ToolShape::<D2>::rounded_cuboid(min, max, 0.3).is_err(),
+            "> half a side"
+        );
+        assert!(ToolShape::<D2>::rounded_cuboid(min, max, -0.1).is_err());
+        assert_eq!(b.bounds(), (min, max));
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! Benchmark case 2: the punching strip (TL paper §4.2, Fig. 5–6).
 //!
 //! A rubber strip `width × height` (centred at the origin), neo-Hookean, compressed between two
-//! rigid punches of `punch_width × punch_thickness` that start touching its top and bottom faces
+//! rigid punches of `punch_width × punch_thickness` (edges rounded by `punch_corner_radius`, 0:
+//! sharp) that start touching its top and bottom faces
 //! and travel `compression · height/2` each toward the centre at `punch_speed` (smooth start,
 //! then a hold; see [`quasi_static`](crate::cases::quasi_static)). Contact is frictionless and
 //! kinematic (`sph_core::tool`): the strip slides along the punches and may leave them, and each
@@ -63,6 +64,13 @@ impl Case for PunchingStrip2d {
                 "punch thickness (m)",
             ),
             Param::float(
+                "punch_corner_radius",
+                0.0,
+                Range::NonNegative,
+                "radius of the punches' edges (m; 0: sharp, the paper's; the FE reference rounds \
+                 them by 5e-5; at most half the punch thickness)",
+            ),
+            Param::float(
                 "compression",
                 0.5,
                 Range::Open(0.0, 1.0),
@@ -117,6 +125,17 @@ impl Case for PunchingStrip2d {
                 ),
             });
         }
+        let (t, corner) = (p.f64("punch_thickness"), p.f64("punch_corner_radius"));
+        if corner > 0.5 * t.min(pw) {
+            return Err(CaseError::InvalidValue {
+                key: "punch_corner_radius".into(),
+                value: corner.to_string(),
+                allowed: format!(
+                    "0 <= punch_corner_radius <= half the punch thickness and width = {}",
+                    0.5 * t.min(pw)
+                ),
+            });
+        }
         let (rho, e, nu) = (p.f64("density"), p.f64("youngs_modulus"), p.f64("nu"));
         let kind: MaterialKind = p.text("material").parse()?;
         let mat = material(kind, e, nu, rho)?;
@@ -136,14 +155,15 @@ impl Case for PunchingStrip2d {
         let (ramp, hold) = timeline(p, travel, speed);
         let down = ToolMotion::<D2>::new(DVec2::new(0.0, -1.0), speed, ramp, travel)?;
         let up = ToolMotion::<D2>::new(DVec2::new(0.0, 1.0), speed, ramp, travel)?;
-        let t = p.f64("punch_thickness");
-        let top = ToolShape::cuboid(
+        let top = ToolShape::rounded_cuboid(
             DVec2::new(-0.5 * pw, 0.5 * h),
             DVec2::new(0.5 * pw, 0.5 * h + t),
+            corner,
         )?;
-        let bottom = ToolShape::cuboid(
+        let bottom = ToolShape::rounded_cuboid(
             DVec2::new(-0.5 * pw, -0.5 * h - t),
             DVec2::new(0.5 * pw, -0.5 * h),
+            corner,
         )?;
         let tools = vec![
             RigidTool::new("punch_top", top, down),
