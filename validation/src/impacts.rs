@@ -327,9 +327,10 @@ fn report_impacts(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), 
          paper's 0.0025 is 8× the particles, 2× the steps). The balls at the paper's \
          resolution are `validate impacts --paper` (ENOG: 310,000 particles, ≈ 6e8 \
          particle-steps); ball–plate 3D at the paper's resolution (354,000 particles, ≈ 2.3e9 \
-         particle-steps, ≈ 4 h at the ≈ 1.5e5 particle-steps/s these runs got on the loaded \
-         machine) was not run: its command is below. Runtimes under load on the shared 2-core \
-         machine.\n"
+         particle-steps: ≈ 1.3 h at the ≈ 5e5 particle-steps/s of the dp = {PLATE3D_DP} runs \
+         in the table, more if memory traffic slows the larger run) was not run: its command \
+         is below. Runtimes on the shared 2-core machine, which ran other work at the same \
+         time (the OG balls row is an older run, made under heavier load).\n"
     )
     .unwrap();
     writeln!(
