@@ -130,6 +130,34 @@ fn every_data_item_resolves(xmf: &str, dir: &Path) {
     assert!(items > 0);
 }
 
+/// The same file through Python's XML parser and h5py (`tests/rank_xdmf_check.py`), when
+/// `python3` with h5py is installed (CI's HDF5 step installs it where it can); a notice
+/// otherwise.
+fn python_reads_the_rank_xdmf(xmf: &Path, ranks: usize, particles: usize) {
+    let has_h5py = std::process::Command::new("python3")
+        .args(["-c", "import h5py"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has_h5py {
+        eprintln!("notice: python3 with h5py not available; the XDMF check by h5py is skipped");
+        return;
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/rank_xdmf_check.py");
+    let out = std::process::Command::new("python3")
+        .arg(script)
+        .arg(xmf)
+        .args([ranks.to_string(), particles.to_string()])
+        .output()
+        .expect("python3 runs");
+    print!("{}", String::from_utf8_lossy(&out.stdout));
+    assert!(
+        out.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 #[test]
 fn per_rank_files_read_back_as_the_single_process_results() {
     let dir = scratch("same");
@@ -187,6 +215,7 @@ fn per_rank_files_read_back_as_the_single_process_results() {
             .collect();
         assert_eq!(grids, expected);
         every_data_item_resolves(&xmf, &dir.join(ranks.to_string()));
+        python_reads_the_rank_xdmf(&dir.join(format!("{ranks}/c.xmf")), ranks, n);
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
