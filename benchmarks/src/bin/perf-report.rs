@@ -361,6 +361,11 @@ fn case_timings_section(md: &mut String, root: &Path) {
              h = 1.3 dp, no output, median of 3; ratio = SPHinXsys wall / ours)",
         ),
         ("extreme", "Extreme TL scenes"),
+        (
+            "impacts",
+            "UL impacts in 3D (steps: advection steps; particle-steps/s: acoustic sub-steps, \
+             from the run's summary)",
+        ),
     ] {
         let rows: Vec<&serde_json::Value> = rows.iter().filter(|r| r["group"] == group).collect();
         if rows.is_empty() {
