@@ -9,15 +9,45 @@
 
 use crate::correction::{guarded_inverse, DEFAULT_MIN_EIGENVALUE};
 use crate::dim::Dim;
+use crate::kernel::{Kernel, WendlandC2};
 use crate::neighbor::NeighborList;
 use crate::pairs::PairKernel;
 use rayon::prelude::*;
 
-/// Per-particle disorder `e_i` from the method's deformation gradients. `ref_pairs` are the
-/// kernel data of `list` in the reference configuration `reference`.
+/// The reference weights `W⁰_ij` and distances `|X_ij|` of the indicator and of
+/// [`affine_fit`]: the stored kernel data of the list's pairs, or the kernel evaluated at each
+/// pair's reference distance as it is visited (nothing stored per pair: a method whose
+/// reference data is not kept, like UL's initial configuration, would otherwise allocate the
+/// whole pair list for every monitor sample). Both give the same bits.
+#[derive(Clone, Copy, Debug)]
+pub enum ReferenceWeights<'a, D: Dim> {
+    /// The pairs' stored reference kernel data, in list order.
+    Pairs(&'a [PairKernel<D>]),
+    /// Evaluate this kernel at the reference distance.
+    Kernel(&'a WendlandC2<D>),
+}
+
+impl<D: Dim> ReferenceWeights<'_, D> {
+    /// `(W⁰, r)` of the pair in slot `k` of the list whose reference separation is `xij0`:
+    /// the stored weight and distance, or the kernel at `|xij0|`.
+    #[inline(always)]
+    fn at(&self, k: usize, xij0: D::Vector) -> (f64, f64) {
+        match self {
+            ReferenceWeights::Pairs(p) => (p[k].w, p[k].r),
+            ReferenceWeights::Kernel(kernel) => {
+                // As `pairs::pair_kernel` computes them.
+                let r = D::norm(xij0);
+                (kernel.w_and_dw_dr(r).0, r)
+            }
+        }
+    }
+}
+
+/// Per-particle disorder `e_i` from the method's deformation gradients, with the weights
+/// `W⁰` and distances of `list`'s pairs in the reference configuration `reference`.
 pub fn disorder_indicator<D: Dim>(
     list: &NeighborList,
-    ref_pairs: &[PairKernel<D>],
+    weights: ReferenceWeights<'_, D>,
     reference: &[D::Vector],
     current: &[D::Vector],
     deformation: &[D::Matrix],
@@ -28,12 +58,13 @@ pub fn disorder_indicator<D: Dim>(
             let f = deformation[i];
             let mut num = 0.0;
             let mut den = 0.0;
-            for (p, &j) in ref_pairs[list.range(i)].iter().zip(list.neighbors(i)) {
+            for (k, &j) in list.range(i).zip(list.neighbors(i)) {
                 let j = j as usize;
                 let xij0 = reference[i] - reference[j];
                 let xij = current[i] - current[j];
-                num += p.w * D::norm(f * xij0 - xij);
-                den += p.w * p.r;
+                let (w, r) = weights.at(k, xij0);
+                num += w * D::norm(f * xij0 - xij);
+                den += w * r;
             }
             if den > 0.0 {
                 num / den
@@ -49,7 +80,7 @@ pub fn disorder_indicator<D: Dim>(
 /// with the guard of [`crate::correction`], scaled to be dimensionless).
 pub fn affine_fit<D: Dim>(
     list: &NeighborList,
-    ref_pairs: &[PairKernel<D>],
+    weights: ReferenceWeights<'_, D>,
     reference: &[D::Vector],
     current: &[D::Vector],
 ) -> Vec<D::Matrix> {
@@ -60,14 +91,15 @@ pub fn affine_fit<D: Dim>(
             let mut b = D::zero_matrix();
             let mut wsum = 0.0;
             let mut r2sum = 0.0;
-            for (p, &j) in ref_pairs[list.range(i)].iter().zip(list.neighbors(i)) {
+            for (k, &j) in list.range(i).zip(list.neighbors(i)) {
                 let j = j as usize;
                 let xij0 = reference[i] - reference[j];
                 let xij = current[i] - current[j];
-                a += D::outer(xij0 * p.w, xij0);
-                b += D::outer(xij * p.w, xij0);
-                wsum += p.w;
-                r2sum += p.w * p.r * p.r;
+                let (w, r) = weights.at(k, xij0);
+                a += D::outer(xij0 * w, xij0);
+                b += D::outer(xij * w, xij0);
+                wsum += w;
+                r2sum += w * r * r;
             }
             if wsum <= 0.0 || r2sum <= 0.0 {
                 return D::identity();
@@ -138,21 +170,22 @@ mod tests {
         let x0 = block::<D>(8, dp);
         let k = WendlandC2::<D>::from_spacing(dp, 1.15).unwrap();
         let list = neighbor_list_cells::<D>(&x0, k.cutoff()).unwrap();
-        let pairs = pair_kernels::<D, _>(&x0, &list, &k);
+        let stored = pair_kernels::<D, _>(&x0, &list, &k);
+        let pairs = ReferenceWeights::Pairs(&stored);
         let g = D::matrix_from_fn(|r, c| if r == c { 1.2 - 0.1 * r as f64 } else { 0.15 });
         let x: Vec<D::Vector> = x0
             .iter()
             .map(|&x| g * x + D::vector([0.3, 0.1, -0.2]))
             .collect();
         // Affine motion: the fit recovers G, and the indicator is zero (round-off only).
-        let fit = affine_fit(&list, &pairs, &x0, &x);
+        let fit = affine_fit(&list, pairs, &x0, &x);
         for f in &fit {
             assert!(D::frobenius(*f - g) < 1e-10);
         }
-        let e = disorder_indicator(&list, &pairs, &x0, &x, &fit);
+        let e = disorder_indicator(&list, pairs, &x0, &x, &fit);
         assert!(DisorderStats::of(&e).max < 1e-12);
         // The same with the exact F supplied by a method.
-        let e = disorder_indicator(&list, &pairs, &x0, &x, &vec![g; x.len()]);
+        let e = disorder_indicator(&list, pairs, &x0, &x, &vec![g; x.len()]);
         assert!(DisorderStats::of(&e).max < 1e-12);
         // Zigzag: alternate particles displaced by ±0.2 dp along x; with F = I (a zero-energy
         // mode the method does not see) the indicator is O(0.1), far from round-off.
@@ -161,13 +194,18 @@ mod tests {
             .enumerate()
             .map(|(i, &x)| x + D::vector([if i % 2 == 0 { 0.02 } else { -0.02 }, 0.0, 0.0]))
             .collect();
-        let e = disorder_indicator(&list, &pairs, &x0, &zig, &vec![D::identity(); x0.len()]);
+        let e = disorder_indicator(&list, pairs, &x0, &zig, &vec![D::identity(); x0.len()]);
         let s = DisorderStats::of(&e);
         assert!(s.max > 0.05 && s.mean > 0.02, "{s:?}");
         // The least-squares fit cannot absorb the zigzag either.
-        let fit = affine_fit(&list, &pairs, &x0, &zig);
-        let e = disorder_indicator(&list, &pairs, &x0, &zig, &fit);
+        let fit = affine_fit(&list, pairs, &x0, &zig);
+        let e = disorder_indicator(&list, pairs, &x0, &zig, &fit);
         assert!(DisorderStats::of(&e).mean > 0.02);
+        // The kernel evaluated pair by pair gives the stored data's bits.
+        let kernel = ReferenceWeights::Kernel(&k);
+        let fit_k = affine_fit(&list, kernel, &x0, &zig);
+        assert_eq!(fit_k, fit);
+        assert_eq!(disorder_indicator(&list, kernel, &x0, &zig, &fit_k), e);
     }
 
     #[test]

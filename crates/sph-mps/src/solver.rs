@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::DEFAULT_MIN_EIGENVALUE;
 use sph_core::diagnostics;
-use sph_core::disorder::disorder_indicator;
+use sph_core::disorder::{disorder_indicator, ReferenceWeights};
 use sph_core::distributed::OverRanks;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
@@ -761,7 +761,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     pub fn disorder(&self) -> Vec<f64> {
         disorder_indicator::<D>(
             &self.list,
-            &self.ref_pairs,
+            ReferenceWeights::Pairs(&self.ref_pairs),
             &self.reference,
             &self.positions,
             &self.deformation,

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
 use sph_core::diagnostics;
-use sph_core::disorder::disorder_indicator;
+use sph_core::disorder::{disorder_indicator, ReferenceWeights};
 use sph_core::distributed::OverRanks;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
@@ -826,7 +826,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     pub fn disorder(&self) -> Vec<f64> {
         disorder_indicator::<D>(
             &self.list,
-            &self.pairs,
+            ReferenceWeights::Pairs(&self.pairs),
             &self.reference,
             &self.positions,
             &self.deformation,

@@ -40,10 +40,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
 use sph_core::diagnostics;
-use sph_core::disorder::{affine_fit, disorder_indicator};
+use sph_core::disorder::{affine_fit, disorder_indicator, ReferenceWeights};
 use sph_core::error::check_positive;
 use sph_core::neighbor::{apply_permutation, invert_permutation};
-use sph_core::pairs::{fill_pair_kernels, pair_kernels, PairSymmetry};
+use sph_core::pairs::{fill_pair_kernels, PairSymmetry};
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::state::{
@@ -1222,16 +1222,18 @@ impl<D: Dim> UlSolver<D> {
     /// and misses a zigzag pattern once it has formed, so the accumulated form is reported;
     /// [`UlSolver::disorder_increment`] gives the per-step form.
     pub fn disorder(&self) -> Vec<f64> {
-        let reference = pair_kernels::<D, _>(&self.initial_positions, &self.list, &self.kernel);
+        // Evaluated pair by pair: the initial configuration's kernel data of today's list
+        // would be a whole pair list per monitor sample (127 MB for the 3D ball-plate).
+        let reference = ReferenceWeights::Kernel(&self.kernel);
         let f = affine_fit::<D>(
             &self.list,
-            &reference,
+            reference,
             &self.initial_positions,
             &self.positions,
         );
         disorder_indicator::<D>(
             &self.list,
-            &reference,
+            reference,
             &self.initial_positions,
             &self.positions,
             &f,
@@ -1244,13 +1246,13 @@ impl<D: Dim> UlSolver<D> {
     pub fn disorder_increment(&self) -> Vec<f64> {
         let f = affine_fit::<D>(
             &self.list,
-            &self.pairs,
+            ReferenceWeights::Pairs(&self.pairs),
             &self.rebuild_positions,
             &self.positions,
         );
         disorder_indicator::<D>(
             &self.list,
-            &self.pairs,
+            ReferenceWeights::Pairs(&self.pairs),
             &self.rebuild_positions,
             &self.positions,
             &f,
