@@ -159,41 +159,19 @@ fn in_global_order(name: &str, pieces: &[&Dataset], ids: &[u64]) -> Result<Datas
     }
     let mut shape = vec![rows];
     shape.extend(&rest);
-    fn place<T: Copy + Default>(parts: Vec<&[T]>, ids: &[u64], row: usize) -> Vec<T> {
-        let mut out = vec![T::default(); ids.len() * row];
-        let rows = parts.iter().flat_map(|p| p.chunks_exact(row.max(1)));
-        for (&g, values) in ids.iter().zip(rows) {
-            out[g as usize * row..(g as usize + 1) * row].copy_from_slice(values);
-        }
-        out
-    }
     let data = match &pieces[0].data {
         DatasetData::F64 { .. } => DatasetData::F64 {
-            values: place(
-                pieces
-                    .iter()
-                    .map(|p| match &p.data {
-                        DatasetData::F64 { values, .. } => Ok(values.as_slice()),
-                        _ => Err(format!("{name}: the ranks' types differ")),
-                    })
-                    .collect::<Result<_, _>>()?,
-                ids,
-                row,
-            ),
+            values: place(pieces, ids, row, name, |d| match d {
+                DatasetData::F64 { values, .. } => Some(values),
+                _ => None,
+            })?,
             shape,
         },
         DatasetData::U64 { .. } => DatasetData::U64 {
-            values: place(
-                pieces
-                    .iter()
-                    .map(|p| match &p.data {
-                        DatasetData::U64 { values, .. } => Ok(values.as_slice()),
-                        _ => Err(format!("{name}: the ranks' types differ")),
-                    })
-                    .collect::<Result<_, _>>()?,
-                ids,
-                row,
-            ),
+            values: place(pieces, ids, row, name, |d| match d {
+                DatasetData::U64 { values, .. } => Some(values),
+                _ => None,
+            })?,
             shape,
         },
     };
@@ -201,4 +179,24 @@ fn in_global_order(name: &str, pieces: &[&Dataset], ids: &[u64]) -> Result<Datas
         name: name.to_string(),
         data,
     })
+}
+
+/// The rows (`row` values each) of the ranks' `pieces` of the dataset `name`, as `values` reads
+/// them (`None`: a piece of another type), placed at their global ids.
+fn place<T: Copy + Default>(
+    pieces: &[&Dataset],
+    ids: &[u64],
+    row: usize,
+    name: &str,
+    values: impl Fn(&DatasetData) -> Option<&Vec<T>>,
+) -> Result<Vec<T>, String> {
+    let mut out = vec![T::default(); ids.len() * row];
+    let mut id = ids.iter();
+    for p in pieces {
+        let v = values(&p.data).ok_or_else(|| format!("{name}: the ranks' types differ"))?;
+        for (chunk, &g) in v.chunks_exact(row.max(1)).zip(&mut id) {
+            out[g as usize * row..(g as usize + 1) * row].copy_from_slice(chunk);
+        }
+    }
+    Ok(out)
 }
