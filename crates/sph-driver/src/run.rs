@@ -470,17 +470,7 @@ pub fn drive<D: Dim>(
             next_monitor = next_event(t, schedule.monitor_interval, end);
         }
         if t + eps >= next_snapshot {
-            let written = match (own.as_mut(), writer.as_mut()) {
-                (Some(o), _) => {
-                    let sets = crate::ranks::owned_snapshot_datasets(solver, fields);
-                    Some((o.write(t, solver.step_count(), &sets), sets))
-                }
-                (None, Some(w)) => {
-                    let sets = snapshot_datasets(solver, fields);
-                    Some((w.write_snapshot(t, solver.step_count(), &sets), sets))
-                }
-                (None, None) => None,
-            };
+            let written = write_snapshot(own.as_mut(), writer.as_mut(), solver, fields);
             if let Some((result, sets)) = written {
                 match result {
                     Err(e) => record.failure = Some(format!("writing the results: {e}")),
@@ -558,17 +548,8 @@ pub fn drive<D: Dim>(
     report(solver, &record, true);
     // Interrupted between snapshots: keep the state reached (it is a good one).
     if record.interrupted.is_some() && record.failure.is_none() && solver.time() > last_snapshot {
-        let (t, step) = (solver.time(), solver.step_count());
-        let written = match (own.as_mut(), writer.as_mut()) {
-            (Some(o), _) => o.write(
-                t,
-                step,
-                &crate::ranks::owned_snapshot_datasets(solver, fields),
-            ),
-            (None, Some(w)) => w.write_snapshot(t, step, &snapshot_datasets(solver, fields)),
-            (None, None) => Ok(()),
-        };
-        if let Err(e) = written {
+        let written = write_snapshot(own.as_mut(), writer.as_mut(), solver, fields);
+        if let Some((Err(e), _)) = written {
             record.failure = Some(format!("writing the results: {e}"));
         }
     }
@@ -869,6 +850,29 @@ pub fn field_dataset<D: Dim>(name: &str, field: Field<D>) -> Dataset {
                 .collect();
             Dataset::matrices(name, &a)
         }
+    }
+}
+
+/// Writes the solver's current state as the next snapshot: to this rank's own file with
+/// per-rank output (its particles only), else to the results file (the whole body). Returns
+/// the outcome and the datasets written (for the checkpoint), or `None` without output.
+fn write_snapshot<D: Dim>(
+    own: Option<&mut crate::ranks::RankOutput>,
+    writer: Option<&mut Box<dyn ResultWriter>>,
+    solver: &dyn Solver<D>,
+    fields: &[&str],
+) -> Option<(Result<(), sph_output::OutputError>, Vec<Dataset>)> {
+    let (t, step) = (solver.time(), solver.step_count());
+    match (own, writer) {
+        (Some(o), _) => {
+            let sets = crate::ranks::owned_snapshot_datasets(solver, fields);
+            Some((o.write(t, step, &sets), sets))
+        }
+        (None, Some(w)) => {
+            let sets = snapshot_datasets(solver, fields);
+            Some((w.write_snapshot(t, step, &sets), sets))
+        }
+        (None, None) => None,
     }
 }
 
