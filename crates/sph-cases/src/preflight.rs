@@ -21,6 +21,9 @@ pub struct RunFiles {
     pub inputs: Vec<(String, PathBuf)>,
     /// The checkpoint file (`--checkpoint`), if the run writes checkpoints.
     pub checkpoint: Option<PathBuf>,
+    /// A rank other than 0 of a distributed run: it does not probe the results' lock, which
+    /// rank 0 takes for the run and may already hold (the probe would then fail at random).
+    pub other_rank: bool,
 }
 
 impl RunFiles {
@@ -33,7 +36,7 @@ impl RunFiles {
             check_results_destination(base)?;
             // Fail before building the scene if another run is writing these results (the
             // writer takes the lock for good when the run starts).
-            if dir.is_dir() {
+            if dir.is_dir() && !self.other_rank {
                 drop(OutputLock::acquire(&sph_output::h5_path(base))?);
             }
             outputs.push(("--out".into(), sph_output::h5_path(base)));

@@ -817,6 +817,7 @@ fn execute(
         summary: a.summary.clone(),
         inputs,
         checkpoint: checkpoint.as_ref().map(|c| c.path.clone()),
+        other_rank: !root,
     }
     .check()?;
     // Held for the run: a second run checkpointing to the same file fails fast.
