@@ -11,8 +11,9 @@
 
 use crate::dim::Dim;
 use crate::error::{check_positive, Error};
+use crate::kernel::Kernel;
 use crate::neighbor::NeighborList;
-use crate::pairs::PairKernel;
+use crate::pairs::{pair_kernel, PairKernel};
 use rayon::prelude::*;
 
 /// Default smallest-eigenvalue threshold of the guard. On a lattice with `h = 1.15 dp`, `M` is
@@ -38,8 +39,21 @@ pub fn moment_matrix<D: Dim>(
     neighbors: &[u32],
     volumes: &[f64],
 ) -> D::Matrix {
+    moment_of_pairs::<D>(
+        pairs.iter().copied().zip(neighbors.iter().copied()),
+        volumes,
+    )
+}
+
+/// `M_i` from its pairs' kernel data and neighbour indices, in list order (the one sum behind
+/// [`moment_matrix`] and [`correction_matrices_at`]).
+#[inline(always)]
+fn moment_of_pairs<D: Dim>(
+    pairs: impl Iterator<Item = (PairKernel<D>, u32)>,
+    volumes: &[f64],
+) -> D::Matrix {
     let mut m = D::zero_matrix();
-    for (p, &j) in pairs.iter().zip(neighbors) {
+    for (p, j) in pairs {
         // x_j − x_i = −r e_ij, ∇_i W = W′ e_ij.
         let a = p.e * (-p.r * volumes[j as usize]);
         m += D::outer(a, p.grad());
@@ -87,6 +101,39 @@ pub fn correction_matrices<D: Dim>(
             let r = list.range(i);
             let m = moment_matrix::<D>(&pairs[r], list.neighbors(i), volumes);
             guarded_inverse::<D>(m, min_eigenvalue)
+        })
+        .collect();
+    let guarded = results.iter().filter(|r| r.1).count();
+    Ok(Correction {
+        matrices: results.into_iter().map(|r| r.0).collect(),
+        guarded,
+    })
+}
+
+/// [`correction_matrices`] of the configuration `positions` with its pair data computed row by
+/// row ([`pair_kernel`]) instead of read from a stored list: the same matrices, bit for bit,
+/// without holding the pair data of the whole list (what a solver that recomputes its pair
+/// data needs to stay within its memory).
+///
+/// # Errors
+/// `min_eigenvalue` not positive.
+pub fn correction_matrices_at<D: Dim, K: Kernel>(
+    list: &NeighborList,
+    positions: &[D::Vector],
+    kernel: &K,
+    volumes: &[f64],
+    min_eigenvalue: f64,
+) -> Result<Correction<D>, Error> {
+    check_positive("correction_min_eigenvalue", min_eigenvalue)?;
+    let results: Vec<(D::Matrix, bool)> = (0..list.len())
+        .into_par_iter()
+        .map(|i| {
+            let xi = positions[i];
+            let row = list
+                .neighbors(i)
+                .iter()
+                .map(|&j| (pair_kernel::<D, K>(xi - positions[j as usize], kernel), j));
+            guarded_inverse::<D>(moment_of_pairs::<D>(row, volumes), min_eigenvalue)
         })
         .collect();
     let guarded = results.iter().filter(|r| r.1).count();
@@ -195,6 +242,39 @@ mod tests {
     #[test]
     fn correction_inverts_moment_matrix_and_makes_linear_gradients_exact_3d() {
         check_b_times_m_is_identity_and_linear_gradients_exact::<D3>([7, 6, 6], 0.994_093);
+    }
+
+    /// The row-by-row form gives the stored-pair form's matrices bit for bit, on a jittered
+    /// 3D block (surface and guarded particles included) and a 2D one.
+    fn check_correction_at_matches_stored<D: Dim>(n: [usize; 3]) {
+        let dp = 0.1;
+        let mut x = lattice::<D>(n, dp);
+        for (k, xi) in x.iter_mut().enumerate() {
+            let jitter = |s: u64| ((k as u64 * 2654435761 + s) % 1000) as f64 / 1000.0 - 0.5;
+            *xi += D::vector([
+                0.2 * dp * jitter(1),
+                0.2 * dp * jitter(7),
+                0.2 * dp * jitter(13),
+            ]);
+        }
+        let kernel = WendlandC2::<D>::from_spacing(dp, 1.15).unwrap();
+        let list = neighbor_list_cells::<D>(&x, kernel.cutoff()).unwrap();
+        let pairs = pair_kernels(&x, &list, &kernel);
+        let v: Vec<f64> = (0..x.len())
+            .map(|k| dp.powi(D::D as i32) * (1.0 + 0.01 * (k % 5) as f64))
+            .collect();
+        // A threshold that guards the corners too, so both branches are compared.
+        let stored = correction_matrices::<D>(&list, &pairs, &v, 0.5).unwrap();
+        let at = correction_matrices_at::<D, _>(&list, &x, &kernel, &v, 0.5).unwrap();
+        assert!(stored.guarded > 0 && stored.guarded < x.len());
+        assert_eq!(stored.guarded, at.guarded);
+        assert_eq!(stored.matrices, at.matrices);
+    }
+
+    #[test]
+    fn correction_from_positions_equals_correction_from_stored_pairs() {
+        check_correction_at_matches_stored::<D2>([11, 8, 1]);
+        check_correction_at_matches_stored::<D3>([6, 5, 7]);
     }
 
     #[test]

@@ -79,9 +79,10 @@ pub fn fill_pair_kernels<D: Dim, K: Kernel>(
 }
 
 /// Kernel data of the pair whose separation is `d = x_i − x_j`: the one formula behind every
-/// fill in this module.
+/// fill in this module, and behind every solver that recomputes pair data instead of storing
+/// them (same bits as the stored data).
 #[inline(always)]
-fn pair_kernel<D: Dim, K: Kernel>(d: D::Vector, kernel: &K) -> PairKernel<D> {
+pub fn pair_kernel<D: Dim, K: Kernel>(d: D::Vector, kernel: &K) -> PairKernel<D> {
     let r = D::norm(d);
     let e = if r > 0.0 { d / r } else { D::zero() };
     let (w, dw) = kernel.w_and_dw_dr(r);

@@ -27,8 +27,9 @@
 
 use crate::dim::Dim;
 use crate::error::{check_non_negative, Error};
+use crate::kernel::Kernel;
 use crate::neighbor::NeighborList;
-use crate::pairs::PairKernel;
+use crate::pairs::pair_kernel;
 
 /// The damping's parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -108,30 +109,35 @@ pub struct PairwiseDamper {
 }
 
 impl PairwiseDamper {
-    /// Binds the damping to the neighbour list `list` with its kernel data `pairs` (one per
-    /// list entry) and the particle volumes.
+    /// Binds the damping to the neighbour list `list` of the configuration `positions` (the
+    /// reference configuration for a TL body), with `kernel` and the particle volumes. The
+    /// kernel data of each pair are computed here, once per pair.
     ///
     /// # Errors
-    /// Invalid parameters, or `pairs`/`volumes` not matching the list.
-    pub fn new<D: Dim>(
+    /// Invalid parameters, or `positions`/`volumes` not matching the list.
+    pub fn new<D: Dim, K: Kernel>(
         params: PairwiseDamping,
         list: &NeighborList,
-        pairs: &[PairKernel<D>],
+        positions: &[D::Vector],
+        kernel: &K,
         volumes: &[f64],
     ) -> Result<Self, Error> {
         params.validate()?;
-        if pairs.len() != list.num_pairs() || volumes.len() != list.len() {
+        if positions.len() != list.len() || volumes.len() != list.len() {
             return Err(Error::invalid(
                 "relaxation pair data",
-                format!("{} pairs, {} volumes", pairs.len(), volumes.len()),
-                &format!("{} pairs, {} volumes", list.num_pairs(), list.len()),
+                format!("{} positions, {} volumes", positions.len(), volumes.len()),
+                &format!("{} of each", list.len()),
             ));
         }
         let (mut first, mut second, mut coefficient) = (Vec::new(), Vec::new(), Vec::new());
         for i in 0..list.len() {
-            for (k, &j) in list.range(i).zip(list.neighbors(i)) {
-                let p = &pairs[k];
-                if (j as usize) > i && p.r > 0.0 {
+            for &j in list.neighbors(i) {
+                if (j as usize) <= i {
+                    continue;
+                }
+                let p = pair_kernel::<D, K>(positions[i] - positions[j as usize], kernel);
+                if p.r > 0.0 {
                     first.push(i as u32);
                     second.push(j);
                     coefficient.push(p.dw * volumes[i] * volumes[j as usize] / p.r);
@@ -197,10 +203,9 @@ mod tests {
     use crate::generate::{Aabb, Lattice, ParticleSet};
     use crate::kernel::{Kernel, WendlandC2};
     use crate::neighbor::CellGrid;
-    use crate::pairs::pair_kernels;
     use glam::DVec2;
 
-    fn block() -> (NeighborList, Vec<PairKernel<D2>>, Vec<f64>, Vec<f64>) {
+    fn block() -> (NeighborList, Vec<DVec2>, WendlandC2<D2>, Vec<f64>, Vec<f64>) {
         let dp = 0.1;
         let shape = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(1.0, 0.6)).unwrap();
         let set = ParticleSet::fill(&Lattice::new(dp, DVec2::ZERO).unwrap(), &shape).unwrap();
@@ -210,10 +215,9 @@ mod tests {
             .unwrap()
             .neighbor_list(&x, k.cutoff())
             .unwrap();
-        let pairs = pair_kernels::<D2, _>(&x, &list, &k);
         let volumes = set.volumes().to_vec();
         let masses = volumes.iter().map(|v| 1000.0 * v).collect();
-        (list, pairs, volumes, masses)
+        (list, x, k, volumes, masses)
     }
 
     /// A rough velocity field: deterministic pseudo-random components.
@@ -229,10 +233,10 @@ mod tests {
 
     #[test]
     fn damping_conserves_momentum_and_removes_kinetic_energy() {
-        let (list, pairs, volumes, masses) = block();
+        let (list, x, k, volumes, masses) = block();
         let mut d = PairwiseDamping::new(1.0e4).unwrap();
         d.probability = 1.0;
-        let damper = PairwiseDamper::new(d, &list, &pairs, &volumes).unwrap();
+        let damper = PairwiseDamper::new::<D2, _>(d, &list, &x, &k, &volumes).unwrap();
         let n = list.len();
         let mut v = rough(n);
         let momentum = |v: &[DVec2]| v.iter().zip(&masses).map(|(&v, &m)| v * m).sum::<DVec2>();
@@ -264,10 +268,10 @@ mod tests {
 
     #[test]
     fn uniform_motion_is_not_damped_and_prescribed_particles_keep_their_velocity() {
-        let (list, pairs, volumes, masses) = block();
+        let (list, x, k, volumes, masses) = block();
         let mut d = PairwiseDamping::new(1.0e3).unwrap();
         d.probability = 1.0;
-        let damper = PairwiseDamper::new(d, &list, &pairs, &volumes).unwrap();
+        let damper = PairwiseDamper::new::<D2, _>(d, &list, &x, &k, &volumes).unwrap();
         let n = list.len();
         let mut v = vec![DVec2::new(0.3, -0.2); n];
         damper.apply::<D2>(0, 1e-3, &mut v, &masses, &vec![true; n]);

@@ -325,15 +325,35 @@ impl Scene {
                     },
                 };
                 let d = sph_tl::TlParams::default();
+                let pair_data = keys.text("pair_data", d.pair_storage.name());
+                let Some(pair_storage) = sph_tl::PairStorage::from_name(&pair_data) else {
+                    return Err(self.error_in(
+                        &At {
+                            span: numerics_span.clone(),
+                            key: "pair_data",
+                        },
+                        "numerics.pair_data",
+                        format!("`{pair_data}`: allowed values are stored, recomputed"),
+                    ));
+                };
                 let params = sph_tl::TlParams {
                     h_over_dp: keys.f64("h_over_dp", d.h_over_dp),
                     cfl: keys.f64("cfl", d.cfl),
                     damping: keys.bool("damping", d.damping),
                     stretch_limited_dt: keys.bool("dt_stretch", d.stretch_limited_dt),
+                    pair_storage,
                     ..d
                 };
-                keys.finish(&["h_over_dp", "cfl", "zeta", "alpha", "damping", "dt_stretch"])
-                    .map_err(|m| self.error_in(&nat, "numerics", m))?;
+                keys.finish(&[
+                    "h_over_dp",
+                    "cfl",
+                    "zeta",
+                    "alpha",
+                    "damping",
+                    "dt_stretch",
+                    "pair_data",
+                ])
+                .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
                 let mut s = sph_tl::TlSolver::new(body, law, shear, params)
                     .map_err(|e| self.core(numerics_span.clone(), "numerics", e))?

@@ -59,7 +59,8 @@
 //! `type = "gravity"` with `acceleration` (and an optional `region`), or `type = "point"` with
 //! `force` at the particle nearest `at`.
 //!
-//! Numerics keys — TL: `h_over_dp`, `cfl`, `zeta`, `alpha`, `damping`, `dt_stretch`;
+//! Numerics keys — TL: `h_over_dp`, `cfl`, `zeta`, `alpha`, `damping`, `dt_stretch`,
+//! `pair_data`;
 //! UL: `h_over_dp`, `cfl_acoustic`, `cfl_advection`, `stepping`, `riemann`, `zeta`,
 //! `epsilon`, `n`, `corrected_gradient`, `refresh_kernel_data`, `allow_fracture`;
 //! MPS: `re_over_l0`, `courant`, `damping`, `integrator`. Every value defaults to the library's

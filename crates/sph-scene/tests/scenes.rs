@@ -147,6 +147,11 @@ fn errors_name_the_file_the_line_and_the_key() {
     );
     let e = parse_err(&format!("{BASE}\n[numerics]\ncfl_acoustic = 0.3\n"));
     assert!(e.contains("numerics") && e.contains("cfl_acoustic"), "{e}");
+    let e = parse_err(&format!("{BASE}\n[numerics]\npair_data = \"auto\"\n"));
+    assert!(
+        e.contains("numerics.pair_data") && e.contains("stored, recomputed"),
+        "{e}"
+    );
     let e = parse_err(&BASE.replace("[0.0, 0.0]", "[0.0, 0.0, 0.0]"));
     assert!(
         e.contains("body[0].shape") && e.contains("expected 2"),

@@ -7,19 +7,20 @@
 //! each pair back toward the separation the two deformation gradients predict. Zero for affine
 //! motion; it costs the tuning parameter α, which the TL paper criticises.
 
+use crate::reference_pairs::PairRows;
 use rayon::prelude::*;
 use sph_core::parallel::MIN_PARTICLES_PER_TASK;
-use sph_core::{Dim, NeighborList};
+use sph_core::Dim;
 
 /// Default α = 0.1 (published values span 0.01–0.3; LAMMPS's `hg` is 2α).
 pub const DEFAULT_ALPHA: f64 = 0.1;
 
-/// Adds the penalty acceleration to `acc`; `weight[ij] = V_j W(r⁰_ij)/|X_ij|²` precomputed and
+/// Adds the penalty acceleration to `acc`; the pair weight `V_j W(r⁰_ij)/|X_ij|²` from `pairs`
+/// ([`crate::reference_pairs::penalty_weight`]) and
 /// `scale = α E / (2 ρ0)` (the `V_i` of the force cancels against `m_i = ρ0 V_i`).
 #[allow(clippy::too_many_arguments)]
 pub fn add_penalty_acceleration<D: Dim>(
-    list: &NeighborList,
-    weight: &[f64],
+    pairs: impl PairRows<D>,
     reference: &[D::Vector],
     positions: &[D::Vector],
     deformation: &[D::Matrix],
@@ -31,18 +32,16 @@ pub fn add_penalty_acceleration<D: Dim>(
         .enumerate()
         .for_each(|(i, a)| {
             let (xi, x0i, fi) = (positions[i], reference[i], deformation[i]);
-            let mut sum = D::zero();
-            for (w, &j) in weight[list.range(i)].iter().zip(list.neighbors(i)) {
-                let j = j as usize;
+            let sum = pairs.fold(i, D::zero(), move |sum, j, _, w| {
                 let xij = xi - positions[j];
                 let r = D::norm(xij);
                 if r <= 0.0 {
-                    continue;
+                    return sum;
                 }
                 let e = xij * (1.0 / r);
                 let predicted = (fi + deformation[j]) * (x0i - reference[j]);
-                sum += e * (w * D::dot(predicted - xij * 2.0, e));
-            }
+                sum + e * (w * D::dot(predicted - xij * 2.0, e))
+            });
             *a += sum * scale;
         });
 }

@@ -16,9 +16,10 @@
 
 use crate::damping::damping_kirchhoff;
 use crate::original::nan_matrix;
+use crate::reference_pairs::PairRows;
 use rayon::prelude::*;
 use sph_core::parallel::MIN_PARTICLES_PER_TASK;
-use sph_core::{Dim, NeighborList};
+use sph_core::Dim;
 use sph_materials::Material;
 
 /// Default ζ = 1.07 (TL paper §4, for the Wendland C2 kernel with h = 1.15 dp).
@@ -48,13 +49,11 @@ pub fn remaining_piola<D: Dim, M: Material<D>>(
 /// structure with `P_r`, no `B`) plus the shear acceleration of eq 27,
 /// `a_i = (1/ρ0) Σ_j (P_r,i + P_r,j) V_j ∇⁰_i W_ij
 ///      + (ζ G/ρ0) Σ_j (J_i^(−2/d) + J_j^(−2/d)) x_ij V_j W′(r⁰_ij)/r⁰_ij`,
-/// with `grad_v[ij] = V_j ∇⁰_i W_ij` and `lap[ij] = V_j W′(r⁰_ij)/r⁰_ij` precomputed. Fusing the
-/// two sums reads each neighbour once.
+/// with `V_j ∇⁰_i W_ij` and `V_j W′(r⁰_ij)/r⁰_ij` from `pairs`. Fusing the two sums reads each
+/// neighbour once.
 #[allow(clippy::too_many_arguments)]
 pub fn acceleration<D: Dim>(
-    list: &NeighborList,
-    grad_v: &[D::Vector],
-    lap: &[f64],
+    pairs: impl PairRows<D>,
     remaining: &[D::Matrix],
     positions: &[D::Vector],
     isochoric: &[f64],
@@ -67,14 +66,13 @@ pub fn acceleration<D: Dim>(
         .enumerate()
         .for_each(|(i, a)| {
             let (pi, xi, ji) = (remaining[i], positions[i], isochoric[i]);
-            let mut div = D::zero();
-            let mut shear = D::zero();
-            let r = list.range(i);
-            for ((g, s), &j) in grad_v[r.clone()].iter().zip(&lap[r]).zip(list.neighbors(i)) {
-                let j = j as usize;
-                div += (pi + remaining[j]) * *g;
-                shear += (xi - positions[j]) * ((ji + isochoric[j]) * s);
-            }
+            let (div, shear) =
+                pairs.fold(i, (D::zero(), D::zero()), move |(div, shear), j, g, s| {
+                    (
+                        div + (pi + remaining[j]) * g,
+                        shear + (xi - positions[j]) * ((ji + isochoric[j]) * s),
+                    )
+                });
             *a = div * inv_density + shear * zeta_g_over_rho;
         });
 }

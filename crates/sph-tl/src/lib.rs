@@ -42,6 +42,8 @@ pub mod damping;
 pub mod ganzenmuller;
 pub mod hourglass_free;
 pub mod original;
+pub mod reference_pairs;
 pub mod solver;
 
+pub use reference_pairs::PairStorage;
 pub use solver::{distribute, Energy, Shear, TlParams, TlSolver};

@@ -3,9 +3,10 @@
 //! stress, see [`crate::hourglass_free`]).
 
 use crate::damping::damping_piola;
+use crate::reference_pairs::PairRows;
 use rayon::prelude::*;
 use sph_core::parallel::MIN_PARTICLES_PER_TASK;
-use sph_core::{Dim, NeighborList};
+use sph_core::Dim;
 use sph_materials::Material;
 
 /// First Piola–Kirchhoff stress with damping, premultiplied for eq 20: `(P_i + τ_d F_i⁻ᵀ) B_iᵀ`.
@@ -34,8 +35,7 @@ pub(crate) fn nan_matrix<D: Dim>() -> D::Matrix {
 /// Eq 20: `a_i = (1/ρ0) Σ_j (S_i + S_j) (V_j ∇⁰_i W_ij)` for per-particle matrices `S`
 /// (`P B ᵀ` for the original form, `P_r` for HF), written into `acc`.
 pub fn stress_divergence<D: Dim>(
-    list: &NeighborList,
-    grad_v: &[D::Vector],
+    pairs: impl PairRows<D>,
     stress: &[D::Matrix],
     inv_density: f64,
     acc: &mut [D::Vector],
@@ -45,19 +45,15 @@ pub fn stress_divergence<D: Dim>(
         .enumerate()
         .for_each(|(i, a)| {
             let si = stress[i];
-            let mut sum = D::zero();
-            let r = list.range(i);
-            for (g, &j) in grad_v[r.clone()].iter().zip(list.neighbors(i)) {
-                sum += (si + stress[j as usize]) * *g;
-            }
+            let sum =
+                pairs.fold_gradient(i, D::zero(), move |sum, j, g| sum + (si + stress[j]) * g);
             *a = sum * inv_density;
         });
 }
 
 /// Eq 22: `Ḟ_i = (Σ_j (v_j − v_i) ⊗ V_j ∇⁰_i W_ij) B_i`, written into `f_dot`.
 pub fn deformation_rate<D: Dim>(
-    list: &NeighborList,
-    grad_v: &[D::Vector],
+    pairs: impl PairRows<D>,
     correction: &[D::Matrix],
     velocities: &[D::Vector],
     f_dot: &mut [D::Matrix],
@@ -68,10 +64,9 @@ pub fn deformation_rate<D: Dim>(
         .enumerate()
         .for_each(|(i, fd)| {
             let vi = velocities[i];
-            let mut sum = D::zero_matrix();
-            for (g, &j) in grad_v[list.range(i)].iter().zip(list.neighbors(i)) {
-                sum += D::outer(velocities[j as usize] - vi, *g);
-            }
+            let sum = pairs.fold_gradient(i, D::zero_matrix(), move |sum, j, g| {
+                sum + D::outer(velocities[j] - vi, g)
+            });
             *fd = sum * correction[i];
         });
 }
@@ -80,22 +75,19 @@ pub fn deformation_rate<D: Dim>(
 /// deformation gradient the SPH gradient of eq 22 assigns to a configuration (used to start from
 /// a prescribed deformed state).
 pub fn deformation_gradient<D: Dim>(
-    list: &NeighborList,
-    grad_v: &[D::Vector],
+    pairs: impl PairRows<D>,
     correction: &[D::Matrix],
     reference: &[D::Vector],
     current: &[D::Vector],
 ) -> Vec<D::Matrix> {
-    (0..list.len())
+    (0..pairs.list().len())
         .into_par_iter()
         .with_min_len(MIN_PARTICLES_PER_TASK)
         .map(|i| {
             let ui = current[i] - reference[i];
-            let mut sum = D::zero_matrix();
-            for (g, &j) in grad_v[list.range(i)].iter().zip(list.neighbors(i)) {
-                let j = j as usize;
-                sum += D::outer(current[j] - reference[j] - ui, *g);
-            }
+            let sum = pairs.fold_gradient(i, D::zero_matrix(), move |sum, j, g| {
+                sum + D::outer(current[j] - reference[j] - ui, g)
+            });
             D::identity() + sum * correction[i]
         })
         .collect()

@@ -2,16 +2,16 @@
 //! (TL paper eq 30–32) with the time step of eq 33.
 
 use crate::damping::damping_coefficient;
+use crate::reference_pairs::{with_pair_rows, PairScalar, PairStorage, PairView, ReferencePairs};
 use crate::{ganzenmuller, hourglass_free, original};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
+use sph_core::correction::{correction_matrices_at, DEFAULT_MIN_EIGENVALUE};
 use sph_core::diagnostics;
 use sph_core::disorder::{disorder_indicator, ReferenceWeights};
 use sph_core::distributed::OverRanks;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
-use sph_core::pairs::pair_kernels;
 use sph_core::parallel::MIN_PARTICLES_PER_TASK;
 use sph_core::relaxation::{PairwiseDamper, PairwiseDamping};
 use sph_core::scene::{ProbeSchedule, Series};
@@ -21,8 +21,8 @@ use sph_core::state::{
 };
 use sph_core::tool::{ReactionMeter, RigidTool};
 use sph_core::{
-    Body, Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, PairKernel, Probe, Solver,
-    StepInfo, WendlandC2,
+    Body, Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, Probe, Solver, StepInfo,
+    WendlandC2,
 };
 use sph_materials::{von_mises, Material};
 use std::sync::Arc;
@@ -105,6 +105,11 @@ pub struct TlParams {
     /// printed blows up before 30 % compression, with this it runs to 50 %. Default off (the
     /// paper's eq 33); the quasi-static extreme cases turn it on (key `dt_stretch`).
     pub stretch_limited_dt: bool,
+    /// Whether the reference pair data are stored or recomputed at every force pass
+    /// ([`PairStorage`]; the results are the same bits either way). Default
+    /// [`PairStorage::Stored`]; key `pair_data`.
+    #[serde(default)]
+    pub pair_storage: PairStorage,
 }
 
 impl Default for TlParams {
@@ -116,6 +121,7 @@ impl Default for TlParams {
             correction_min_eigenvalue: DEFAULT_MIN_EIGENVALUE,
             min_dt_ratio: diagnostics::MIN_DT_RATIO,
             stretch_limited_dt: false,
+            pair_storage: PairStorage::Stored,
         }
     }
 }
@@ -136,22 +142,6 @@ impl Energy {
     }
 }
 
-/// Variant-specific per-pair data, computed once.
-#[derive(Clone, Debug)]
-enum PairData {
-    Original,
-    /// `V_j W′(r⁰)/r⁰` per pair.
-    HourglassFree {
-        zeta: f64,
-        lap: Vec<f64>,
-    },
-    /// `V_j W(r⁰)/|X_ij|²` per pair.
-    Ganzenmuller {
-        alpha: f64,
-        weight: Vec<f64>,
-    },
-}
-
 /// Total-Lagrangian SPH solver for one body. See the crate documentation.
 pub struct TlSolver<D: Dim, M: Material<D>> {
     material: M,
@@ -166,12 +156,10 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     volumes: Vec<f64>,
     masses: Vec<f64>,
     list: NeighborList,
-    pairs: Vec<PairKernel<D>>,
-    /// `V_j ∇⁰_i W_ij` per pair.
-    grad_v: Vec<D::Vector>,
+    /// `V_j ∇⁰_i W_ij` and the variant's pair scalar, stored or recomputed.
+    pairs: ReferencePairs<D>,
     correction: Vec<D::Matrix>,
     guarded: usize,
-    pair_data: PairData,
     // State.
     positions: Vec<D::Vector>,
     velocities: Vec<D::Vector>,
@@ -250,50 +238,35 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                 required: D::D,
             });
         }
-        let pairs = pair_kernels::<D, _>(&reference, &list, &kernel);
         let volumes = body.volumes;
-        let grad_v: Vec<D::Vector> = list
-            .indices()
-            .par_iter()
-            .zip(&pairs)
-            .map(|(&j, p)| p.grad() * volumes[j as usize])
-            .collect();
-        let corr =
-            correction_matrices::<D>(&list, &pairs, &volumes, params.correction_min_eigenvalue)?;
-        let pair_data = match shear {
-            Shear::Original => PairData::Original,
-            Shear::HourglassFree { zeta } => PairData::HourglassFree {
-                zeta,
-                lap: list
-                    .indices()
-                    .par_iter()
-                    .zip(&pairs)
-                    .map(|(&j, p)| volumes[j as usize] * p.dw / p.r)
-                    .collect(),
-            },
-            Shear::Ganzenmuller { alpha } => PairData::Ganzenmuller {
-                alpha,
-                weight: list
-                    .indices()
-                    .par_iter()
-                    .zip(&pairs)
-                    .map(|(&j, p)| volumes[j as usize] * p.w / (p.r * p.r))
-                    .collect(),
-            },
+        let scalar = match shear {
+            Shear::Original => PairScalar::None,
+            Shear::HourglassFree { .. } => PairScalar::Laplacian,
+            Shear::Ganzenmuller { .. } => PairScalar::Penalty,
         };
-        if let PairData::HourglassFree { lap, .. } | PairData::Ganzenmuller { weight: lap, .. } =
-            &pair_data
-        {
-            if let Some(k) = lap.iter().position(|v| !v.is_finite()) {
-                // Only coincident reference positions make r⁰ = 0.
-                let i = list.offsets().partition_point(|&o| o <= k) - 1;
-                return Err(Error::invalid(
-                    "positions",
-                    format!("particle {i} coincides with a neighbour"),
-                    "distinct reference positions",
-                ));
-            }
+        let (pairs, coincident) = ReferencePairs::new(
+            &list,
+            &reference,
+            &volumes,
+            &kernel,
+            scalar,
+            params.pair_storage,
+        );
+        if let Some(k) = coincident {
+            let i = list.offsets().partition_point(|&o| o <= k) - 1;
+            return Err(Error::invalid(
+                "positions",
+                format!("particle {i} coincides with a neighbour"),
+                "distinct reference positions",
+            ));
         }
+        let corr = correction_matrices_at::<D, _>(
+            &list,
+            &reference,
+            &kernel,
+            &volumes,
+            params.correction_min_eigenvalue,
+        )?;
         let gamma = if params.damping {
             damping_coefficient(density, sound_speed, kernel.h())
         } else {
@@ -314,10 +287,8 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             masses,
             list,
             pairs,
-            grad_v,
             correction: corr.matrices,
             guarded: corr.guarded,
-            pair_data,
             velocities,
             deformation: vec![D::identity(); n],
             deformation_rate: vec![D::zero_matrix(); n],
@@ -404,10 +375,11 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// # Errors
     /// Invalid damping parameters.
     pub fn with_relaxation(mut self, damping: PairwiseDamping) -> Result<Self, Error> {
-        self.relaxation = Some(PairwiseDamper::new(
+        self.relaxation = Some(PairwiseDamper::new::<D, _>(
             damping,
             &self.list,
-            &self.pairs,
+            &self.reference,
+            &self.kernel,
             &self.volumes,
         )?);
         Ok(self)
@@ -538,13 +510,9 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                 &format!("{n} of each"),
             ));
         }
-        self.deformation = original::deformation_gradient::<D>(
-            &self.list,
-            &self.grad_v,
-            &self.correction,
-            &self.reference,
-            &x,
-        );
+        self.deformation = with_pair_rows!(self.pair_view(), |rows| {
+            original::deformation_gradient::<D>(rows, &self.correction, &self.reference, &x)
+        });
         self.positions = x;
         self.velocities = v;
         self.refresh_rates();
@@ -610,13 +578,15 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     fn refresh_rates(&mut self) {
         self.constraints
             .apply_to_velocities(self.time, &mut self.velocities);
-        original::deformation_rate::<D>(
-            &self.list,
-            &self.grad_v,
+        let view = self
+            .pairs
+            .view(&self.list, &self.reference, &self.volumes, &self.kernel);
+        with_pair_rows!(view, |rows| original::deformation_rate::<D>(
+            rows,
             &self.correction,
             &self.velocities,
             &mut self.deformation_rate,
-        );
+        ));
         self.max_speed = self.domain.max_over_ranks(diagnostics::max_norm_where::<D>(
             &self.velocities,
             &self.free,
@@ -634,8 +604,11 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     fn compute_internal_accelerations(&mut self) {
         let inv_rho = 1.0 / self.density;
         let (material, gamma) = (&self.material, self.gamma);
-        match &self.pair_data {
-            PairData::Original | PairData::Ganzenmuller { .. } => {
+        let view = self
+            .pairs
+            .view(&self.list, &self.reference, &self.volumes, &self.kernel);
+        match self.shear {
+            Shear::Original | Shear::Ganzenmuller { .. } => {
                 self.stress
                     .par_iter_mut()
                     .with_min_len(MIN_PARTICLES_PER_TASK)
@@ -645,28 +618,23 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                     .for_each(|(((s, &f), &fd), &b)| {
                         *s = original::corrected_piola::<D, M>(material, gamma, f, fd, b);
                     });
-                original::stress_divergence::<D>(
-                    &self.list,
-                    &self.grad_v,
-                    &self.stress,
-                    inv_rho,
-                    &mut self.accelerations,
-                );
-                if let PairData::Ganzenmuller { alpha, weight } = &self.pair_data {
-                    let scale = alpha * material.constants().youngs_modulus * 0.5 * inv_rho;
-                    ganzenmuller::add_penalty_acceleration::<D>(
-                        &self.list,
-                        weight,
-                        &self.reference,
-                        &self.positions,
-                        &self.deformation,
-                        scale,
-                        &mut self.accelerations,
-                    );
-                }
+                let (stress, acc) = (&self.stress, &mut self.accelerations);
+                with_pair_rows!(view, |rows| {
+                    original::stress_divergence::<D>(rows, stress, inv_rho, acc);
+                    if let Shear::Ganzenmuller { alpha } = self.shear {
+                        let scale = alpha * material.constants().youngs_modulus * 0.5 * inv_rho;
+                        ganzenmuller::add_penalty_acceleration::<D>(
+                            rows,
+                            &self.reference,
+                            &self.positions,
+                            &self.deformation,
+                            scale,
+                            acc,
+                        );
+                    }
+                });
             }
-            PairData::HourglassFree { zeta, lap } => {
-                let zeta = *zeta;
+            Shear::HourglassFree { zeta } => {
                 self.stress
                     .par_iter_mut()
                     .with_min_len(MIN_PARTICLES_PER_TASK)
@@ -680,19 +648,24 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                         *jf = j;
                     });
                 let g = material.constants().shear_modulus;
-                hourglass_free::acceleration::<D>(
-                    &self.list,
-                    &self.grad_v,
-                    lap,
-                    &self.stress,
+                let (stress, acc) = (&self.stress, &mut self.accelerations);
+                with_pair_rows!(view, |rows| hourglass_free::acceleration::<D>(
+                    rows,
+                    stress,
                     &self.positions,
                     &self.isochoric,
                     inv_rho,
                     zeta * g * inv_rho,
-                    &mut self.accelerations,
-                );
+                    acc,
+                ));
             }
         }
+    }
+
+    /// The body's reference pair data with what recomputing them reads.
+    fn pair_view(&self) -> PairView<'_, D> {
+        self.pairs
+            .view(&self.list, &self.reference, &self.volumes, &self.kernel)
     }
 
     fn record_probes(&mut self) {
@@ -750,6 +723,15 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// The neighbour list (reference configuration).
     pub fn neighbors(&self) -> &NeighborList {
         &self.list
+    }
+
+    /// How this solver holds its reference pair data.
+    pub fn pair_storage(&self) -> PairStorage {
+        if self.pairs.is_stored() {
+            PairStorage::Stored
+        } else {
+            PairStorage::Recomputed
+        }
     }
 
     /// How many particles needed the correction-matrix guard.
@@ -826,7 +808,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     pub fn disorder(&self) -> Vec<f64> {
         disorder_indicator::<D>(
             &self.list,
-            ReferenceWeights::Pairs(&self.pairs),
+            ReferenceWeights::Kernel(&self.kernel),
             &self.reference,
             &self.positions,
             &self.deformation,

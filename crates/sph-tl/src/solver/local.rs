@@ -10,7 +10,7 @@
 //! empty (its `Ḟ` stays zero and `F` the identity; only its velocities and positions are read).
 //! Time-step maxima, the finiteness check, energies and momentum are reduced over the ranks.
 
-use super::{PairData, TlSolver};
+use super::TlSolver;
 use sph_core::distributed::{DistributedSolver, Domain};
 use sph_core::{Dim, Error};
 use sph_materials::Material;
@@ -56,20 +56,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             return refuse("named constraints (grips)");
         }
         let (list, pair_ids) = domain.local_rows(&self.list)?;
-        let pick_pairs = |v: &[f64]| pair_ids.iter().map(|&k| v[k]).collect::<Vec<_>>();
-        self.pair_data = match &self.pair_data {
-            PairData::Original => PairData::Original,
-            PairData::HourglassFree { zeta, lap } => PairData::HourglassFree {
-                zeta: *zeta,
-                lap: pick_pairs(lap),
-            },
-            PairData::Ganzenmuller { alpha, weight } => PairData::Ganzenmuller {
-                alpha: *alpha,
-                weight: pick_pairs(weight),
-            },
-        };
-        self.pairs = pair_ids.iter().map(|&k| self.pairs[k]).collect();
-        self.grad_v = pair_ids.iter().map(|&k| self.grad_v[k]).collect();
+        self.pairs.pick_slots(&pair_ids);
         self.list = list;
         let (global, inv, d) = (domain.global(), domain.local_of(), &*domain);
         let pick = |v: &[D::Vector]| d.pick(v);
