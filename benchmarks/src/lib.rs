@@ -7,7 +7,8 @@
 #![deny(missing_docs)]
 
 use glam::DVec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The neighbour-search benchmark: a jittered 3D lattice of `per_axis³` particles.
@@ -86,7 +87,7 @@ impl SplitMix64 {
 }
 
 /// A criterion point estimate with its confidence interval, in nanoseconds.
-#[derive(Clone, Copy, Debug, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
 pub struct Estimate {
     /// Point estimate.
     pub point_estimate: f64,
@@ -95,7 +96,7 @@ pub struct Estimate {
 }
 
 /// Criterion's confidence interval.
-#[derive(Clone, Copy, Debug, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
 pub struct Interval {
     /// Lower bound.
     pub lower_bound: f64,
@@ -136,6 +137,54 @@ pub fn read_mean(
     Some(e.mean)
 }
 
+/// The committed record of criterion means, `benchmarks/results/criterion.json`, so that
+/// `perf-report` regenerates every table after `target/` has been cleaned. A benchmark's mean
+/// comes from criterion's own results when they are present (the latest measurement on this
+/// machine) and is recorded; otherwise from the record.
+#[derive(Debug, Default)]
+pub struct BenchRecord {
+    entries: BTreeMap<String, Estimate>,
+}
+
+impl BenchRecord {
+    /// The record at `path` (empty if there is none yet).
+    pub fn load(path: &Path) -> Self {
+        let entries = std::fs::read_to_string(path)
+            .ok()
+            .and_then(|t| serde_json::from_str(&t).ok())
+            .unwrap_or_default();
+        Self { entries }
+    }
+
+    /// The mean of one benchmark: criterion's result under `criterion_dir` if present (then
+    /// recorded), else the recorded one.
+    pub fn mean(
+        &mut self,
+        criterion_dir: &Path,
+        group: &str,
+        function: &str,
+        param: &str,
+    ) -> Option<Estimate> {
+        let key = format!("{group}/{function}/{param}");
+        if let Some(e) = read_mean(criterion_dir, group, function, param) {
+            self.entries.insert(key, e);
+            return Some(e);
+        }
+        self.entries.get(&key).copied()
+    }
+
+    /// Writes the record to `path` (a temporary file, then a rename).
+    ///
+    /// # Errors
+    /// The file cannot be written.
+    pub fn save(&self, path: &Path) -> std::io::Result<()> {
+        let tmp = path.with_extension("json.tmp");
+        let text = serde_json::to_string_pretty(&self.entries).map_err(std::io::Error::other)?;
+        std::fs::write(&tmp, text + "\n")?;
+        std::fs::rename(&tmp, path)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -167,6 +216,15 @@ mod tests {
         let e = read_mean(&dir, "g/x", "f", "1-thread").unwrap();
         assert_eq!(e.point_estimate, 2.0);
         assert!(read_mean(&dir, "g/x", "f", "2-thread").is_none());
+        // The record keeps what criterion measured after its results are gone.
+        let record_path = dir.join("record.json");
+        let mut record = BenchRecord::load(&record_path);
+        assert_eq!(record.mean(&dir, "g/x", "f", "1-thread"), Some(e));
+        record.save(&record_path).unwrap();
+        std::fs::remove_dir_all(dir.join("g_x")).unwrap();
+        let mut again = BenchRecord::load(&record_path);
+        assert_eq!(again.mean(&dir, "g/x", "f", "1-thread"), Some(e));
+        assert_eq!(again.mean(&dir, "g/x", "f", "2-thread"), None);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -1,12 +1,12 @@
 //! Whole-run timings of benchmark scenes through the `sph` command, as a user runs them: wall,
-//! user and system time (of the child process), steps, particles and particle-steps per second,
+//! user and system time and peak resident memory (of the child process), steps, particles and particle-steps per second,
 //! each the median of `--repeats` runs (with the spread), at 1 and 2 threads. Writes
 //! `benchmarks/results/case-timings.json`, which `perf-report` turns into the tables of
 //! `docs/performance.md` (the anchor rows beside the recorded SPHinXsys reference).
 //!
 //! ```text
 //! cargo build --release -p sph-cases --bin sph
-//! cargo run --release -p sph-benchmarks --bin case-timings [-- --repeats 3] [--only anchors|extreme|impacts]
+//! cargo run --release -p sph-benchmarks --bin case-timings [-- --repeats 3] [--only anchors|extreme|impacts|memory]
 //! ```
 //! Time only on a quiet machine (no build, test or other run): the numbers are wall-clock.
 
@@ -113,6 +113,42 @@ fn scenes() -> Vec<Scene> {
             threads: &[2],
         },
         Scene {
+            group: "memory",
+            label: "bending column 3D, TL-HF, H/dp 26, stored pair data, 0.03 s",
+            args: vec![
+                "bending-column-3d",
+                "--method",
+                "tl-hf",
+                "--set",
+                "resolution=26",
+                "--set",
+                "end_time=0.03",
+                "--set",
+                "monitor_interval=0.03",
+                "--set",
+                "pair_data=stored",
+            ],
+            threads: &[2],
+        },
+        Scene {
+            group: "memory",
+            label: "bending column 3D, TL-HF, H/dp 26, recomputed pair data, 0.03 s",
+            args: vec![
+                "bending-column-3d",
+                "--method",
+                "tl-hf",
+                "--set",
+                "resolution=26",
+                "--set",
+                "end_time=0.03",
+                "--set",
+                "monitor_interval=0.03",
+                "--set",
+                "pair_data=recomputed",
+            ],
+            threads: &[2],
+        },
+        Scene {
             group: "impacts",
             label: "colliding hollow balls 3D, UL-ENOG, dp 2 mm, v0 0.08 c0, to 8 ms",
             args: vec![
@@ -147,13 +183,40 @@ fn scenes() -> Vec<Scene> {
     ]
 }
 
-/// User and system CPU seconds of all waited-for children so far.
-fn children_cpu() -> (f64, f64) {
-    // SAFETY: getrusage writes into the zeroed struct we own; RUSAGE_CHILDREN is valid.
-    let mut u: libc::rusage = unsafe { std::mem::zeroed() };
-    unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut u) };
+/// What one run of `sph` cost: wall, user and system seconds and its peak resident memory.
+struct Cost {
+    wall: f64,
+    user: f64,
+    system: f64,
+    peak_rss_bytes: f64,
+}
+
+/// Runs `command` and measures it with `wait4`, which reports the child's own resource usage
+/// (its peak resident set in particular, which `RUSAGE_CHILDREN` only gives as a maximum over
+/// all children so far).
+// The child is reaped by `wait4` below, which clippy cannot see.
+#[allow(clippy::zombie_processes)]
+fn run_measured(command: &mut Command) -> (std::process::ExitStatus, Cost) {
+    use std::os::unix::process::ExitStatusExt;
+    let t0 = Instant::now();
+    let child = command.spawn().expect("run sph");
+    let mut status: libc::c_int = 0;
+    // SAFETY: wait4 on our own child's pid writes the status and the zeroed rusage we own; the
+    // child is reaped here, and `child` is not waited for again.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let pid = child.id() as libc::pid_t;
+    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    assert_eq!(r, pid, "wait4 failed: {}", std::io::Error::last_os_error());
+    let wall = t0.elapsed().as_secs_f64();
     let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    (secs(u.ru_utime), secs(u.ru_stime))
+    let cost = Cost {
+        wall,
+        user: secs(usage.ru_utime),
+        system: secs(usage.ru_stime),
+        // Linux reports ru_maxrss in KiB.
+        peak_rss_bytes: usage.ru_maxrss as f64 * 1024.0,
+    };
+    (std::process::ExitStatus::from_raw(status), cost)
 }
 
 fn median_and_spread(mut v: Vec<f64>) -> Value {
@@ -192,40 +255,41 @@ fn main() {
             continue;
         }
         for &threads in scene.threads {
-            let (mut wall, mut user, mut sys) = (Vec::new(), Vec::new(), Vec::new());
+            let (mut wall, mut user, mut sys, mut rss) =
+                (Vec::new(), Vec::new(), Vec::new(), Vec::new());
             let mut summary = Value::Null;
             for k in 0..repeats {
                 let path: PathBuf = scratch.join(format!("s{k}.json"));
-                let (u0, s0) = children_cpu();
-                let t0 = Instant::now();
-                let status = Command::new(&sph)
-                    .arg("run")
-                    .args(&scene.args)
-                    .args(["--no-output", "--threads", &threads.to_string()])
-                    .arg("--summary")
-                    .arg(&path)
-                    .stdout(std::process::Stdio::null())
-                    .status()
-                    .expect("run sph");
-                let elapsed = t0.elapsed().as_secs_f64();
-                let (u1, s1) = children_cpu();
+                let (status, cost) = run_measured(
+                    Command::new(&sph)
+                        .arg("run")
+                        .args(&scene.args)
+                        .args(["--no-output", "--threads", &threads.to_string()])
+                        .arg("--summary")
+                        .arg(&path)
+                        .stdout(std::process::Stdio::null()),
+                );
                 if !status.success() {
                     eprintln!("error: {} failed ({status})", scene.label);
                     std::process::exit(1);
                 }
-                wall.push(elapsed);
-                user.push(u1 - u0);
-                sys.push(s1 - s0);
-                summary = serde_json::from_str(&std::fs::read_to_string(&path).unwrap())
-                    .expect("summary JSON");
                 eprintln!(
-                    "{} ({threads} thread{}): run {}: {elapsed:.2} s wall, {:.2} s user, {:.2} s sys",
+                    "{} ({threads} thread{}): run {}: {:.2} s wall, {:.2} s user, {:.2} s sys, \
+                     {:.0} MB peak",
                     scene.label,
                     if threads == 1 { "" } else { "s" },
                     k + 1,
-                    u1 - u0,
-                    s1 - s0
+                    cost.wall,
+                    cost.user,
+                    cost.system,
+                    cost.peak_rss_bytes / 1e6
                 );
+                wall.push(cost.wall);
+                user.push(cost.user);
+                sys.push(cost.system);
+                rss.push(cost.peak_rss_bytes);
+                summary = serde_json::from_str(&std::fs::read_to_string(&path).unwrap())
+                    .expect("summary JSON");
             }
             let pick = |k: &str| summary.get(k).cloned().unwrap_or(Value::Null);
             let command = format!(
@@ -241,6 +305,7 @@ fn main() {
                 "wall_seconds": median_and_spread(wall),
                 "user_seconds": median_and_spread(user),
                 "system_seconds": median_and_spread(sys),
+                "peak_rss_bytes": median_and_spread(rss),
                 "particles": pick("particles"),
                 "steps": pick("steps"),
                 "acoustic_steps": pick("acoustic_steps"),

@@ -1,4 +1,6 @@
-//! Regenerates `docs/performance.md` from the criterion results under `target/criterion/`.
+//! Regenerates `docs/performance.md` from the criterion results under `target/criterion/`
+//! (recorded in `benchmarks/results/criterion.json`, which serves when `target/` has been
+//! cleaned), `benchmarks/results/ul-stepping.json` and `benchmarks/results/case-timings.json`.
 //!
 //! ```text
 //! cargo bench -p sph-benchmarks
@@ -7,7 +9,7 @@
 //! Benchmarks that have not been run are listed as missing rather than invented.
 
 use sph_benchmarks::{
-    read_mean, MPS_BENCH_GROUP, MPS_BENCH_RESOLUTIONS, NEIGHBOR_BENCH, TL_BENCH_GROUP,
+    BenchRecord, MPS_BENCH_GROUP, MPS_BENCH_RESOLUTIONS, NEIGHBOR_BENCH, TL_BENCH_GROUP,
     TL_BENCH_METHODS, TL_BENCH_RESOLUTIONS,
 };
 use std::fmt::Write as _;
@@ -19,11 +21,24 @@ fn main() {
         .map(PathBuf::from)
         .unwrap_or_else(|| root.join("target").join("criterion"));
     let out = root.join("docs").join("performance.md");
+    let record_path = root
+        .join("benchmarks")
+        .join("results")
+        .join("criterion.json");
+    let mut record = BenchRecord::load(&record_path);
     let mut md = String::new();
     header(&mut md);
-    neighbor_section(&mut md, &criterion);
-    tl_section(&mut md, &criterion);
-    mps_section(&mut md, &criterion);
+    {
+        let mut mean = |group: &str, function: &str, param: &str| {
+            record.mean(&criterion, group, function, param)
+        };
+        neighbor_section(&mut md, &mut mean);
+        tl_section(&mut md, &mut mean);
+        mps_section(&mut md, &mut mean);
+    }
+    record
+        .save(&record_path)
+        .expect("write benchmarks/results/criterion.json");
     ul_stepping_section(&mut md, &root);
     case_timings_section(&mut md, &root);
     distributed_section(&mut md);
@@ -48,6 +63,9 @@ fn distributed_section(md: &mut String) {
     )
     .unwrap();
 }
+
+/// A benchmark's mean by group, function and parameter ([`BenchRecord::mean`]).
+type Mean<'a> = dyn FnMut(&str, &str, &str) -> Option<sph_benchmarks::Estimate> + 'a;
 
 fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -77,7 +95,7 @@ fn header(md: &mut String) {
     writeln!(md, "Machine: {cpu}, {cores} hardware threads.\n").unwrap();
 }
 
-fn neighbor_section(md: &mut String, criterion: &Path) {
+fn neighbor_section(md: &mut String, mean: &mut Mean<'_>) {
     let spec = NEIGHBOR_BENCH;
     let n = spec.per_axis.pow(3);
     writeln!(md, "## Neighbour-list build, 3D\n").unwrap();
@@ -100,10 +118,10 @@ fn neighbor_section(md: &mut String, criterion: &Path) {
     .unwrap();
     writeln!(md, "|---|---|---|---|---|---|").unwrap();
     for function in ["cell-list", "cell-list-sorted", "kd-tree"] {
-        let one = read_mean(criterion, spec.group, function, "1-thread");
+        let one = mean(spec.group, function, "1-thread");
         for threads in [1, 2] {
             let param = format!("{threads}-thread");
-            match read_mean(criterion, spec.group, function, &param) {
+            match mean(spec.group, function, &param) {
                 Some(e) => {
                     let ms = e.point_estimate * 1e-6;
                     let rate = n as f64 / (e.point_estimate * 1e-9);
@@ -125,7 +143,7 @@ fn neighbor_section(md: &mut String, criterion: &Path) {
     writeln!(md).unwrap();
 }
 
-fn tl_section(md: &mut String, criterion: &Path) {
+fn tl_section(md: &mut String, mean: &mut Mean<'_>) {
     writeln!(md, "## TL step, bending column 3D (TL paper Table 3)\n").unwrap();
     writeln!(
         md,
@@ -145,9 +163,8 @@ fn tl_section(md: &mut String, criterion: &Path) {
     for res in TL_BENCH_RESOLUTIONS {
         let n = (res * res * (6 * res + 3)) as f64;
         for threads in [1, 2] {
-            let get = |m: &str| {
-                read_mean(
-                    criterion,
+            let mut get = |m: &str| {
+                mean(
                     TL_BENCH_GROUP,
                     &format!("{m}/{threads}-thread"),
                     &res.to_string(),
@@ -180,7 +197,7 @@ fn tl_section(md: &mut String, criterion: &Path) {
     writeln!(md).unwrap();
 }
 
-fn mps_section(md: &mut String, criterion: &Path) {
+fn mps_section(md: &mut String, mean: &mut Mean<'_>) {
     writeln!(
         md,
         "## MPS step beside TL-HF, cantilever plate 2D (MPS paper §IV.D)\n"
@@ -204,8 +221,7 @@ fn mps_section(md: &mut String, criterion: &Path) {
     for res in MPS_BENCH_RESOLUTIONS {
         for threads in [1, 2] {
             for method in ["mps", "tl-hf"] {
-                let e = read_mean(
-                    criterion,
+                let e = mean(
                     MPS_BENCH_GROUP,
                     &format!("{method}/{threads}-thread"),
                     &res.to_string(),
@@ -350,7 +366,8 @@ fn case_timings_section(md: &mut String, root: &Path) {
         "Generated from `benchmarks/results/case-timings.json` (`cargo run --release -p \
          sph-benchmarks --bin case-timings`): each scene run as a user runs it (`sph run … \
          --no-output --threads N`, unpinned), median of the repeats with the range; user and \
-         system CPU time of the process.\n"
+         system CPU time and peak resident memory (RSS) of the process, the latter also per \
+         particle (– for rows measured before the memory column existed).\n"
     )
     .unwrap();
     for (group, title) in [
@@ -366,6 +383,12 @@ fn case_timings_section(md: &mut String, root: &Path) {
             "UL impacts in 3D (steps: advection steps; particle-steps/s: acoustic sub-steps, \
              from the run's summary)",
         ),
+        (
+            "memory",
+            "Memory of 3D TL-HF above 1e5 particles: the reference pair data stored (default) \
+             or recomputed at every force pass (key `pair_data`; both give the same bits). \
+             Target: ≤ 1 KiB per particle",
+        ),
     ] {
         let rows: Vec<&serde_json::Value> = rows.iter().filter(|r| r["group"] == group).collect();
         if rows.is_empty() {
@@ -374,15 +397,20 @@ fn case_timings_section(md: &mut String, root: &Path) {
         writeln!(md, "### {title}\n").unwrap();
         writeln!(
             md,
-            "| scene | threads | particles | steps | wall (s) | range | user (s) | system (s) | sys/user | particle-steps/s | SPHinXsys (s) | ratio |"
+            "| scene | threads | particles | steps | wall (s) | range | user (s) | system (s) | sys/user | particle-steps/s | peak RSS (MB) | KiB/particle | SPHinXsys (s) | ratio |"
         )
         .unwrap();
-        writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|").unwrap();
+        writeln!(
+            md,
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        )
+        .unwrap();
         for r in rows {
             let label = r["label"].as_str().unwrap_or("?");
             let threads = r["threads"].as_u64().unwrap_or(0) as usize;
             let wall = f(r, "wall_seconds");
             let (user, sys) = (f(r, "user_seconds"), f(r, "system_seconds"));
+            let rss = f(r, "peak_rss_bytes");
             let reference = SPHINXSYS
                 .iter()
                 .find(|(p, t, _)| label.starts_with(p) && *t == threads)
@@ -394,7 +422,7 @@ fn case_timings_section(md: &mut String, root: &Path) {
                 .map_or("–".into(), |s| s.to_string());
             writeln!(
                 md,
-                "| {label} | {threads} | {} | {steps} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {label} | {threads} | {} | {steps} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 r["particles"],
                 opt(wall, 2),
                 spread(r, "wall_seconds"),
@@ -404,6 +432,11 @@ fn case_timings_section(md: &mut String, root: &Path) {
                 r["particle_steps_per_second"]
                     .as_f64()
                     .map_or("–".into(), |v| format!("{v:.3e}")),
+                opt(rss.map(|b| b / 1e6), 0),
+                opt(
+                    rss.zip(r["particles"].as_f64()).map(|(b, n)| b / n / 1024.0),
+                    2
+                ),
                 opt(reference, 1),
                 opt(reference.zip(wall).map(|(a, b)| a / b), 2),
             )

@@ -229,7 +229,8 @@ pub trait PairRows<D: Dim>: Copy + Send + Sync {
     fn fold_gradient<A>(&self, i: usize, init: A, f: impl FnMut(A, usize, D::Vector) -> A) -> A;
 
     /// Folds `f(acc, j, V_j ∇⁰_i W_ij, scalar)` over the neighbours `j` of particle `i`, in
-    /// list order (the scalar of the variant: 0 for plain TL).
+    /// list order: the variant's pair scalar (HF and GM only; plain TL has none and reads
+    /// [`PairRows::fold_gradient`]).
     fn fold<A>(&self, i: usize, init: A, f: impl FnMut(A, usize, D::Vector, f64) -> A) -> A;
 }
 
@@ -269,9 +270,8 @@ impl<D: Dim> PairRows<D> for StoredRows<'_, D> {
 
     #[inline(always)]
     fn fold<A>(&self, i: usize, init: A, mut f: impl FnMut(A, usize, D::Vector, f64) -> A) -> A {
-        if self.scalar.is_empty() {
-            return self.fold_gradient(i, init, |acc, j, g| f(acc, j, g, 0.0));
-        }
+        // Only the variants with a pair scalar (HF, GM) fold it; plain TL reads gradients.
+        debug_assert!(!self.scalar.is_empty(), "no pair scalar stored");
         let range = self.list.range(i);
         let (g, s) = (&self.gradient[range.clone()], &self.scalar[range]);
         let mut acc = init;
