@@ -57,7 +57,7 @@ const VFS: [f64; 2] = [0.01, 0.05];
 pub const CLAMPS: [&str; 2] = ["frame", "solid"];
 /// The Ganzenmüller α of the sweep (TL paper: GM needs case-dependent tuning).
 const GM_ALPHAS: [f64; 5] = [0.01, 0.03, 0.1, 0.2, 0.3];
-/// Resolution of the thin plate (Table 2, H = 0.01): dp = 0.25 mm, the spacing of Table 1 at
+/// Resolution of the thin plate (Table 2, H = 0.01): dp = 0.5 mm, the spacing of Table 1 at
 /// H/dp = 40 (the paper does not state Table 2's resolution).
 const TABLE2_RES: u32 = 20;
 
