@@ -6,19 +6,23 @@ use sph_core::comm::{Communicator, ThreadRanks};
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::{Body, Constraint, Constraints, Probe, Solver, D3};
 use sph_materials::{ElasticConstants, NeoHookean};
-use sph_tl::{distribute, Shear, TlParams, TlSolver};
+use sph_tl::{distribute, PairStorage, Shear, TlParams, TlSolver};
 use std::sync::Arc;
 
 const DP: f64 = 0.1;
 
 /// A 4 × 4 × 16 column of side 0.4 (256 particles), bending sideways.
-fn column(clamped: bool, shear: Shear) -> TlSolver<D3, NeoHookean> {
+fn column(clamped: bool, shear: Shear, storage: PairStorage) -> TlSolver<D3, NeoHookean> {
     let shape = Aabb::<D3>::new(DVec3::ZERO, DVec3::new(0.4, 0.4, 1.6)).unwrap();
     let set = ParticleSet::fill(&Lattice::new(DP, DVec3::ZERO).unwrap(), &shape).unwrap();
     let clamp = set.select(|x| x.z < 2.0 * DP);
     let body = Body::from(set).with_velocity(|x| DVec3::new(0.5 * x.z, 0.2 * x.z, 0.0));
     let law = NeoHookean::new(ElasticConstants::from_youngs(2e6, 0.4, 1000.0).unwrap());
-    let s = TlSolver::new(body, law, shear, TlParams::default()).unwrap();
+    let params = TlParams {
+        pair_storage: storage,
+        ..TlParams::default()
+    };
+    let s = TlSolver::new(body, law, shear, params).unwrap();
     let probe = Probe::point(
         "tip",
         DVec3::new(0.2, 0.2, 1.6),
@@ -63,9 +67,9 @@ fn run(s: &mut dyn Solver<D3>) -> Outcome {
     }
 }
 
-fn distributed(ranks: usize, clamped: bool, shear: Shear) -> Vec<Outcome> {
+fn distributed(ranks: usize, clamped: bool, shear: Shear, storage: PairStorage) -> Vec<Outcome> {
     ThreadRanks::run(ranks, |comm: Arc<dyn Communicator>| {
-        let mut s = distribute(column(clamped, shear), comm).unwrap();
+        let mut s = distribute(column(clamped, shear, storage), comm).unwrap();
         run(&mut s)
     })
 }
@@ -77,10 +81,18 @@ fn one_two_and_three_ranks_end_bit_identical_to_one_process() {
         Shear::Original,
         Shear::ganzenmuller(),
     ] {
-        let serial = run(&mut column(true, shear));
-        for ranks in 1..=3 {
-            for (rank, d) in distributed(ranks, true, shear).iter().enumerate() {
-                let at = format!("{} on {ranks} ranks, rank {rank}", shear.method_name());
+        let serial = run(&mut column(true, shear, PairStorage::Stored));
+        // Each rank's pair data stored (its slots of the whole list) or recomputed from its
+        // own reference positions: both end as the one process with stored data.
+        for (ranks, storage) in
+            (1..=3).flat_map(|r| [(r, PairStorage::Stored), (r, PairStorage::Recomputed)])
+        {
+            for (rank, d) in distributed(ranks, true, shear, storage).iter().enumerate() {
+                let at = format!(
+                    "{} on {ranks} ranks ({}), rank {rank}",
+                    shear.method_name(),
+                    storage.name()
+                );
                 assert_eq!(d.time, serial.time, "{at}");
                 assert!(d.positions == serial.positions, "{at}: positions differ");
                 assert!(d.velocities == serial.velocities, "{at}: velocities differ");
@@ -97,8 +109,8 @@ fn one_two_and_three_ranks_end_bit_identical_to_one_process() {
 
 #[test]
 fn a_free_column_keeps_its_momentum_on_three_ranks() {
-    let initial = column(false, Shear::hourglass_free()).linear_momentum();
-    for d in distributed(3, false, Shear::hourglass_free()) {
+    let initial = column(false, Shear::hourglass_free(), PairStorage::Stored).linear_momentum();
+    for d in distributed(3, false, Shear::hourglass_free(), PairStorage::Recomputed) {
         let scale = initial.length();
         assert!(
             (d.momentum - initial).length() <= 1e-12 * scale,
@@ -112,7 +124,7 @@ fn a_free_column_keeps_its_momentum_on_three_ranks() {
 #[test]
 fn the_halo_is_the_neighbours_not_owned_and_theirs() {
     ThreadRanks::run(2, |comm: Arc<dyn Communicator>| {
-        let s = column(true, Shear::hourglass_free());
+        let s = column(true, Shear::hourglass_free(), PairStorage::Stored);
         let list = s.neighbors().clone();
         let d = distribute(s, comm).unwrap();
         let dom = d.domain();
