@@ -60,6 +60,9 @@ const GM_ALPHAS: [f64; 5] = [0.01, 0.03, 0.1, 0.2, 0.3];
 /// Resolution of the thin plate (Table 2, H = 0.01): dp = 0.5 mm, the spacing of Table 1 at
 /// H/dp = 40 (the paper does not state Table 2's resolution).
 const TABLE2_RES: u32 = 20;
+/// The convergence check of Table 2: one row (ν, v_f) at these resolutions (`--table2`
+/// adds the coarse one, `--table2 --fine` the fine one, about 8× the cost of H/dp 20).
+const TABLE2_CONVERGENCE: (f64, f64, [u32; 3]) = (0.22, 0.05, [10, 20, 40]);
 
 fn paper_period(vf: f64, nu: f64) -> Option<f64> {
     TABLE1
@@ -282,6 +285,16 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
         }
     }
     if sel.table2 {
+        let (nu, vf, res) = TABLE2_CONVERGENCE;
+        for r in [res[0]].into_iter().chain(sel.fine.then_some(res[2])) {
+            run_or_load(
+                &thin_id(nu, vf, r),
+                "oscillating-plate-2d",
+                "tl-hf",
+                &thin_set(nu, vf, r),
+                f,
+            )?;
+        }
         for &(vf, nu, paper) in TABLE2 {
             if paper.is_some() {
                 run_or_load(
@@ -659,6 +672,31 @@ fn table2_section(md: &mut String) {
             period_cell(&r),
             pct(rel(period(&r), paper)),
             r.as_ref().map_or("not run", status),
+        )
+        .unwrap();
+    }
+    writeln!(md).unwrap();
+    let (nu, vf, res) = TABLE2_CONVERGENCE;
+    let paper = TABLE2
+        .iter()
+        .find(|r| r.0 == vf && r.1 == nu)
+        .and_then(|r| r.2);
+    writeln!(
+        md,
+        "Convergence (ν = {nu}, v_f = {vf}; H/dp 40 is `validate tl --table2 --fine`):\n\n\
+         | H/dp | particles | T | vs paper |\n|---|---|---|---|"
+    )
+    .unwrap();
+    for r in res {
+        let run = load(&thin_id(nu, vf, r));
+        writeln!(
+            md,
+            "| {r} | {} | {} | {} |",
+            run.as_ref()
+                .and_then(|x| x.num("particles"))
+                .map_or("–".into(), |n| format!("{n:.0}")),
+            period_cell(&run),
+            pct(rel(period(&run), paper)),
         )
         .unwrap();
     }
