@@ -94,19 +94,8 @@ pub fn correction_matrices<D: Dim>(
     volumes: &[f64],
     min_eigenvalue: f64,
 ) -> Result<Correction<D>, Error> {
-    check_positive("correction_min_eigenvalue", min_eigenvalue)?;
-    let results: Vec<(D::Matrix, bool)> = (0..list.len())
-        .into_par_iter()
-        .map(|i| {
-            let r = list.range(i);
-            let m = moment_matrix::<D>(&pairs[r], list.neighbors(i), volumes);
-            guarded_inverse::<D>(m, min_eigenvalue)
-        })
-        .collect();
-    let guarded = results.iter().filter(|r| r.1).count();
-    Ok(Correction {
-        matrices: results.into_iter().map(|r| r.0).collect(),
-        guarded,
+    guarded_corrections::<D>(list.len(), min_eigenvalue, |i| {
+        moment_matrix::<D>(&pairs[list.range(i)], list.neighbors(i), volumes)
     })
 }
 
@@ -124,17 +113,26 @@ pub fn correction_matrices_at<D: Dim, K: Kernel>(
     volumes: &[f64],
     min_eigenvalue: f64,
 ) -> Result<Correction<D>, Error> {
+    guarded_corrections::<D>(list.len(), min_eigenvalue, |i| {
+        let xi = positions[i];
+        let row = list
+            .neighbors(i)
+            .iter()
+            .map(|&j| (pair_kernel::<D, K>(xi - positions[j as usize], kernel), j));
+        moment_of_pairs::<D>(row, volumes)
+    })
+}
+
+/// The guarded inverses of the moment matrices `moment(i)` of `n` particles.
+fn guarded_corrections<D: Dim>(
+    n: usize,
+    min_eigenvalue: f64,
+    moment: impl Fn(usize) -> D::Matrix + Sync + Send,
+) -> Result<Correction<D>, Error> {
     check_positive("correction_min_eigenvalue", min_eigenvalue)?;
-    let results: Vec<(D::Matrix, bool)> = (0..list.len())
+    let results: Vec<(D::Matrix, bool)> = (0..n)
         .into_par_iter()
-        .map(|i| {
-            let xi = positions[i];
-            let row = list
-                .neighbors(i)
-                .iter()
-                .map(|&j| (pair_kernel::<D, K>(xi - positions[j as usize], kernel), j));
-            guarded_inverse::<D>(moment_of_pairs::<D>(row, volumes), min_eigenvalue)
-        })
+        .map(|i| guarded_inverse::<D>(moment(i), min_eigenvalue))
         .collect();
     let guarded = results.iter().filter(|r| r.1).count();
     Ok(Correction {
