@@ -115,46 +115,47 @@ impl<D: Dim> ReferencePairs<D> {
         storage: PairStorage,
     ) -> (Self, Option<usize>) {
         use rayon::prelude::*;
-        let rows = (0..list.len()).into_par_iter();
+        let pair = |i: usize, j: u32| {
+            let p = pair_kernel::<D, _>(reference[i] - reference[j as usize], kernel);
+            (p, volumes[j as usize])
+        };
         let stored = (storage == PairStorage::Stored).then(|| {
-            let pair = |i: usize, j: u32| {
-                let p = pair_kernel::<D, _>(reference[i] - reference[j as usize], kernel);
-                (p, volumes[j as usize])
-            };
-            let gradient = rows
-                .clone()
-                .flat_map_iter(|i| {
-                    list.neighbors(i).iter().map(move |&j| {
-                        let (p, v) = pair(i, j);
-                        gradient_weight(&p, v)
-                    })
-                })
-                .collect();
-            let scalar = if scalar == PairScalar::None {
-                Vec::new()
-            } else {
-                rows.clone()
+            let rows = (0..list.len()).into_par_iter();
+            if scalar == PairScalar::None {
+                let gradient = rows
                     .flat_map_iter(|i| {
                         list.neighbors(i).iter().map(move |&j| {
                             let (p, v) = pair(i, j);
-                            scalar.of(&p, v)
+                            gradient_weight(&p, v)
                         })
                     })
-                    .collect()
-            };
+                    .collect();
+                return Stored {
+                    gradient,
+                    scalar: Vec::new(),
+                };
+            }
+            let (gradient, scalar) = rows
+                .flat_map_iter(|i| {
+                    list.neighbors(i).iter().map(move |&j| {
+                        let (p, v) = pair(i, j);
+                        (gradient_weight(&p, v), scalar.of(&p, v))
+                    })
+                })
+                .unzip();
             Stored { gradient, scalar }
         });
         // Only coincident reference positions make r⁰ = 0 and the scalar non-finite.
-        let bad = (scalar != PairScalar::None)
-            .then(|| {
-                (0..list.len()).find_map(|i| {
-                    list.range(i).zip(list.neighbors(i)).find_map(|(k, &j)| {
-                        let p = pair_kernel::<D, _>(reference[i] - reference[j as usize], kernel);
-                        (!scalar.of(&p, volumes[j as usize]).is_finite()).then_some(k)
-                    })
+        let bad = match (&stored, scalar) {
+            (_, PairScalar::None) => None,
+            (Some(s), _) => s.scalar.iter().position(|v| !v.is_finite()),
+            (None, _) => (0..list.len()).find_map(|i| {
+                list.range(i).zip(list.neighbors(i)).find_map(|(k, &j)| {
+                    let (p, v) = pair(i, j);
+                    (!scalar.of(&p, v).is_finite()).then_some(k)
                 })
-            })
-            .flatten();
+            }),
+        };
         (Self { scalar, stored }, bad)
     }
 

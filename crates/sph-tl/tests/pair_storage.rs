@@ -128,3 +128,26 @@ fn the_default_stores_and_the_key_names_round_trip() {
     }
     assert_eq!(PairStorage::from_name("auto"), None);
 }
+
+#[test]
+fn coincident_reference_positions_are_refused_in_either_form() {
+    let (mut body, _) = body::<D2>(6);
+    body.positions[7] = body.positions[8];
+    let law = NeoHookean::new(ElasticConstants::from_youngs(1e6, 0.45, 1100.0).unwrap());
+    for shear in [Shear::hourglass_free(), Shear::ganzenmuller()] {
+        for storage in [PairStorage::Stored, PairStorage::Recomputed] {
+            let params = TlParams {
+                pair_storage: storage,
+                ..TlParams::default()
+            };
+            let e = TlSolver::new(body.clone(), law, shear, params)
+                .err()
+                .unwrap_or_else(|| panic!("{shear:?} {storage:?}: accepted"))
+                .to_string();
+            assert!(
+                e.contains("positions") && e.contains("coincides with a neighbour"),
+                "{shear:?} {storage:?}: {e}"
+            );
+        }
+    }
+}
