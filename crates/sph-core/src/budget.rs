@@ -39,7 +39,7 @@ pub const MAX_PARTICLES: u64 = u32::MAX as u64;
 /// |---|---|---|
 /// | 2D | oscillating-plate-2d, 20 → 80 (5,792 → 85,472 particles) | tl 1,706; tl-hf 1,874; tl-gm 1,863; ul-og 2,460; ul-enog 2,469; ul-oas 2,459 |
 /// | 2D | slab-tension-2d, 31 → 124 (2,883 → 46,128) | mps 1,199 |
-/// | 3D | bending-column-3d, 10 → 20 (6,300 → 49,200) | tl 4,588; tl-hf 5,022; tl-gm 5,008 (before the TL pair data were slimmed; now tl-hf 2,805, and 998 with `pair_data = recomputed`) |
+/// | 3D | bending-column-3d, 10 → 20 (6,300 → 49,200) | tl 4,588; tl-hf 5,022; tl-gm 5,008 (before the TL pair data were slimmed; now tl-hf 2,816, and 1,014 with `pair_data = recomputed`) |
 /// | 3D | oscillating-plate-3d, 2 → 4 (12,800 → 102,400) | ul-og 7,999; ul-enog 8,031; ul-oas 8,123 |
 pub const BYTES_PER_PARTICLE_2D: u64 = 3_000;
 

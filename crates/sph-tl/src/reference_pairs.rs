@@ -9,7 +9,7 @@
 //! top of its 4-byte neighbour index, about 2 KiB per particle in a 3D body at `h = 1.15 dp`
 //! (≈ 56 neighbours); recomputed, only the index stays, at the price of a square root, a few
 //! divisions and a kernel evaluation per pair and pass: measured on the 107,484-particle
-//! bending column (TL-HF, 2 threads), the step takes about 2.2× as long (docs/performance.md).
+//! bending column (TL-HF, 2 threads), the step takes about 2.5× as long (docs/performance.md).
 
 use serde::{Deserialize, Serialize};
 use sph_core::pairs::{pair_kernel, PairKernel};
@@ -25,7 +25,7 @@ pub enum PairStorage {
     Stored,
     /// Recompute from the reference positions at every force pass and keep only the neighbour
     /// indices: for bodies that would not fit otherwise (3D TL-HF: under 1 KiB per particle,
-    /// about twice the step time; docs/performance.md).
+    /// about 2.5× the run time; docs/performance.md).
     Recomputed,
 }
 

@@ -41,7 +41,7 @@ pub fn tl_params() -> Vec<Param> {
             "stored",
             &["stored", "recomputed"],
             "reference pair data of the force passes: stored, or recomputed every pass (same \
-             results; 3D: under 1 KiB per particle, about 2x the step time)",
+             results; 3D: under 1 KiB per particle, about 2.5x the run time)",
         ),
     ];
     v.extend(crate::runner::output_params());
