@@ -23,9 +23,28 @@ fn scratch(name: &str) -> PathBuf {
 
 /// Runs the small cantilever plate (MPS) on `ranks` in-process ranks (`None`: one process, no ranks).
 fn run(ranks: Option<usize>, base: &Path, per_rank: bool) -> Vec<String> {
-    let case = find_case(CASE).unwrap();
-    let mut params = case.params_for(METHOD);
-    for s in ["resolution=4", "end_time=0.005", "snapshots=4"] {
+    run_case(
+        CASE,
+        METHOD,
+        &["resolution=4", "end_time=0.005", "snapshots=4"],
+        ranks,
+        base,
+        per_rank,
+    )
+}
+
+/// Runs `case` with `method` and the assignments `set` on `ranks` in-process ranks.
+fn run_case(
+    case_name: &str,
+    method: &str,
+    set: &[&str],
+    ranks: Option<usize>,
+    base: &Path,
+    per_rank: bool,
+) -> Vec<String> {
+    let case = find_case(case_name).unwrap();
+    let mut params = case.params_for(method);
+    for s in set {
         params.apply_assignment(s).unwrap();
     }
     let go_here = |comm: Option<Arc<dyn Communicator>>| {
@@ -35,7 +54,7 @@ fn run(ranks: Option<usize>, base: &Path, per_rank: bool) -> Vec<String> {
             per_rank_output: per_rank,
             ..Default::default()
         };
-        let (record, summary) = case.run(METHOD, &params, &options).unwrap();
+        let (record, summary) = case.run(method, &params, &options).unwrap();
         assert!(record.failure.is_none(), "{:?}", record.failure);
         summary["status"].as_str().unwrap().to_string()
     };
@@ -156,6 +175,49 @@ fn python_reads_the_rank_xdmf(xmf: &Path, ranks: usize, particles: usize) {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// The TL cases build each rank's share of the neighbour data only (`TlSolver::for_ranks`);
+/// the gathered results equal the single-process run's bit for bit.
+#[test]
+fn a_tl_case_on_ranks_writes_the_single_process_results() {
+    let dir = scratch("tl");
+    let set = [
+        "resolution=4",
+        "end_time=0.002",
+        "snapshots=2",
+        "pair_data=recomputed",
+    ];
+    run_case(
+        "bending-column-3d",
+        "tl-hf",
+        &set,
+        None,
+        &dir.join("one/c"),
+        false,
+    );
+    let one = read_file(dir.join("one/c.h5")).unwrap();
+    assert_eq!(one.snapshots.len(), 3);
+    for ranks in [2, 3] {
+        let base = dir.join(format!("{ranks}/c"));
+        let statuses = run_case(
+            "bending-column-3d",
+            "tl-hf",
+            &set,
+            Some(ranks),
+            &base,
+            false,
+        );
+        assert!(statuses.iter().all(|s| s == "completed"), "{statuses:?}");
+        let many = read_file(dir.join(format!("{ranks}/c.h5"))).unwrap();
+        assert_same_snapshots(&one, &many, &format!("tl-hf on {ranks} ranks"));
+        assert_eq!(many.summary["ranks"], Value::from(ranks));
+        assert_eq!(
+            many.meta["guarded_particles"],
+            one.meta["guarded_particles"]
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

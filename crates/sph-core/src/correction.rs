@@ -94,9 +94,12 @@ pub fn correction_matrices<D: Dim>(
     volumes: &[f64],
     min_eigenvalue: f64,
 ) -> Result<Correction<D>, Error> {
-    guarded_corrections::<D>(list.len(), min_eigenvalue, |i| {
-        moment_matrix::<D>(&pairs[list.range(i)], list.neighbors(i), volumes)
-    })
+    guarded_corrections::<D>(
+        list.len(),
+        min_eigenvalue,
+        |_| true,
+        |i| moment_matrix::<D>(&pairs[list.range(i)], list.neighbors(i), volumes),
+    )
 }
 
 /// [`correction_matrices`] of the configuration `positions` with its pair data computed row by
@@ -113,7 +116,23 @@ pub fn correction_matrices_at<D: Dim, K: Kernel>(
     volumes: &[f64],
     min_eigenvalue: f64,
 ) -> Result<Correction<D>, Error> {
-    guarded_corrections::<D>(list.len(), min_eigenvalue, |i| {
+    correction_matrices_counted::<D, K>(list, positions, kernel, volumes, min_eigenvalue, |_| true)
+}
+
+/// As [`correction_matrices_at`], counting in [`Correction::guarded`] only the particles for
+/// which `counted(i)` holds (a rank of a distributed run counts the particles it owns).
+///
+/// # Errors
+/// `min_eigenvalue` not positive.
+pub fn correction_matrices_counted<D: Dim, K: Kernel>(
+    list: &NeighborList,
+    positions: &[D::Vector],
+    kernel: &K,
+    volumes: &[f64],
+    min_eigenvalue: f64,
+    counted: impl Fn(usize) -> bool + Sync + Send,
+) -> Result<Correction<D>, Error> {
+    guarded_corrections::<D>(list.len(), min_eigenvalue, counted, |i| {
         let xi = positions[i];
         let row = list
             .neighbors(i)
@@ -127,6 +146,7 @@ pub fn correction_matrices_at<D: Dim, K: Kernel>(
 fn guarded_corrections<D: Dim>(
     n: usize,
     min_eigenvalue: f64,
+    counted: impl Fn(usize) -> bool + Sync + Send,
     moment: impl Fn(usize) -> D::Matrix + Sync + Send,
 ) -> Result<Correction<D>, Error> {
     check_positive("correction_min_eigenvalue", min_eigenvalue)?;
@@ -134,7 +154,11 @@ fn guarded_corrections<D: Dim>(
         .into_par_iter()
         .map(|i| guarded_inverse::<D>(moment(i), min_eigenvalue))
         .collect();
-    let guarded = results.iter().filter(|r| r.1).count();
+    let guarded = results
+        .iter()
+        .enumerate()
+        .filter(|(i, r)| r.1 && counted(*i))
+        .count();
     Ok(Correction {
         matrices: results.into_iter().map(|r| r.0).collect(),
         guarded,

@@ -15,7 +15,7 @@
 
 use crate::dim::Dim;
 use crate::error::Error;
-use crate::neighbor::NeighborList;
+use crate::neighbor::{NeighborList, Neighbours};
 
 /// Which rank owns each particle.
 #[derive(Clone, Debug, PartialEq)]
@@ -69,9 +69,21 @@ impl Partition {
         list: &NeighborList,
         ranks: usize,
     ) -> Result<Self, Error> {
-        let weights: Vec<f64> = (0..list.len())
-            .map(|i| list.count(i) as f64 + 1.0)
-            .collect();
+        let counts: Vec<u32> = (0..list.len()).map(|i| list.count(i) as u32).collect();
+        Self::by_counts::<D>(positions, &counts, ranks)
+    }
+
+    /// RCB weighted by the given neighbour counts plus one (the same partition as
+    /// [`Partition::by_neighbour_count`] with a list of those counts).
+    ///
+    /// # Errors
+    /// As [`Partition::recursive_bisection`].
+    pub fn by_counts<D: Dim>(
+        positions: &[D::Vector],
+        counts: &[u32],
+        ranks: usize,
+    ) -> Result<Self, Error> {
+        let weights: Vec<f64> = counts.iter().map(|&c| c as f64 + 1.0).collect();
         Self::recursive_bisection::<D>(positions, &weights, ranks)
     }
 
@@ -104,7 +116,7 @@ impl Partition {
 
     /// Layers 1 and 2 of `rank`'s halo (ascending): the neighbours of its particles it does
     /// not own, and their neighbours that are neither owned nor in layer 1.
-    pub fn halo_layers(&self, rank: usize, list: &NeighborList) -> (Vec<u32>, Vec<u32>) {
+    pub fn halo_layers(&self, rank: usize, list: &impl Neighbours) -> (Vec<u32>, Vec<u32>) {
         let n = self.owner.len();
         // 0: not needed, 1: owned, 2: layer 1, 3: layer 2.
         let mut mark = vec![0u8; n];
@@ -115,20 +127,20 @@ impl Partition {
         }
         for i in 0..n {
             if self.owner[i] as usize == rank {
-                for &j in list.neighbors(i) {
+                list.for_each_neighbour(i, |j| {
                     if mark[j as usize] == 0 {
                         mark[j as usize] = 2;
                     }
-                }
+                });
             }
         }
         for i in 0..n {
             if mark[i] == 2 {
-                for &j in list.neighbors(i) {
+                list.for_each_neighbour(i, |j| {
                     if mark[j as usize] == 0 {
                         mark[j as usize] = 3;
                     }
-                }
+                });
             }
         }
         let layer = |k: u8| (0..n as u32).filter(|&i| mark[i as usize] == k).collect();

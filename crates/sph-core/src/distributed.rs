@@ -11,9 +11,10 @@ use crate::comm::Communicator;
 use crate::decomposition::Partition;
 use crate::dim::Dim;
 use crate::error::Error;
-use crate::neighbor::NeighborList;
+use crate::neighbor::{NeighborList, Neighbours};
 use crate::scene::{Probe, Series};
 use crate::solver::{EnergyBudget, Field, Solver, StepInfo};
+use rayon::prelude::*;
 use std::cell::OnceCell;
 use std::sync::Arc;
 
@@ -38,15 +39,15 @@ pub struct Domain {
 
 impl Domain {
     /// This rank's domain for `partition` (over `comm`'s ranks) of a body with the fixed
-    /// neighbour list `list`; `extra` particles (probes) are received every exchange too.
-    /// Collective: every rank calls it.
+    /// neighbours `list` (a stored list or a search on demand); `extra` particles (probes) are
+    /// received every exchange too. Collective: every rank calls it.
     ///
     /// # Errors
     /// A partition over another number of ranks or particles than `comm` and `list`.
     pub fn new(
         comm: Arc<dyn Communicator>,
         partition: Arc<Partition>,
-        list: &NeighborList,
+        list: &impl Neighbours,
         extra: &[u32],
     ) -> Result<Self, Error> {
         if partition.ranks() != comm.size() || partition.len() != list.len() {
@@ -130,19 +131,25 @@ impl Domain {
     }
 
     /// The domain of this rank for a body with reference positions `reference` and the fixed
-    /// neighbour list `list`: RCB weighted by neighbour count
-    /// ([`Partition::by_neighbour_count`]), the particles `probes` read received too.
-    /// Collective.
+    /// neighbours `list` (a stored list, or [`crate::neighbor::GridNeighbours`] when the whole
+    /// body's list is never built): RCB weighted by neighbour count
+    /// ([`Partition::by_counts`]), the particles `probes` read received too. Collective.
     ///
     /// # Errors
     /// More ranks than particles.
     pub fn for_body<D: Dim>(
         comm: Arc<dyn Communicator>,
         reference: &[D::Vector],
-        list: &NeighborList,
+        list: &impl Neighbours,
         probes: &[Probe<D>],
     ) -> Result<Arc<Self>, Error> {
-        let partition = Partition::by_neighbour_count::<D>(reference, list, comm.size())?;
+        let counts: Vec<u32> = (0..list.len())
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|i| list.neighbour_count(i) as u32)
+            .collect();
+        let partition = Partition::by_counts::<D>(reference, &counts, comm.size())?;
+        drop(counts);
         let mut extra = Vec::new();
         for p in probes {
             match &p.target {
@@ -180,6 +187,53 @@ impl Domain {
             offsets.push(indices.len());
         }
         Ok((NeighborList::from_parts(offsets, indices)?, pair_ids))
+    }
+
+    /// The local neighbour list searched from the whole body's neighbours `source` (row `i`
+    /// of the whole body for each complete particle, relabelled; empty rows for the others):
+    /// the list [`Domain::local_rows`] cuts from a stored list, built without one.
+    ///
+    /// # Errors
+    /// `source` over another number of particles than the partition.
+    pub fn local_list(&self, source: &impl Neighbours) -> Result<NeighborList, Error> {
+        if source.len() != self.partition.len() {
+            return Err(Error::invalid(
+                "neighbours",
+                source.len(),
+                &format!("{} particles", self.partition.len()),
+            ));
+        }
+        // Fixed blocks of rows, concatenated in order: the same list for every thread count.
+        let ids: Vec<usize> = (0..self.global.len()).collect();
+        let blocks: Vec<(Vec<usize>, Vec<u32>)> = ids
+            .par_chunks(256)
+            .map(|chunk| {
+                let mut counts = Vec::with_capacity(chunk.len());
+                let mut idx = Vec::new();
+                for &l in chunk {
+                    let start = idx.len();
+                    if self.complete[l] {
+                        source.for_each_neighbour(self.global[l] as usize, |j| {
+                            let lj = self.local_of[j as usize];
+                            assert_ne!(lj, NOT_LOCAL, "halo layer 2 covers the rows of layer 1");
+                            idx.push(lj);
+                        });
+                    }
+                    counts.push(idx.len() - start);
+                }
+                (counts, idx)
+            })
+            .collect();
+        let mut offsets = Vec::with_capacity(ids.len() + 1);
+        offsets.push(0);
+        let mut indices = Vec::with_capacity(blocks.iter().map(|b| b.1.len()).sum());
+        for (counts, idx) in blocks {
+            for c in counts {
+                offsets.push(offsets.last().unwrap() + c);
+            }
+            indices.extend_from_slice(&idx);
+        }
+        NeighborList::from_parts(offsets, indices)
     }
 
     /// The local particles' entries of a per-particle array of the whole body.

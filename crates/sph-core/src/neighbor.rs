@@ -4,8 +4,10 @@
 //!
 //! Neighbours of `i` are the particles `j ≠ i` with `|x_i − x_j|² < cutoff²`, where the squared
 //! distance is always computed by [`distance_squared`], so the two searches return identical
-//! sets, including for points exactly at the cut-off (excluded by both). Each particle's
-//! neighbours are sorted by index, so the lists are canonical: equal sets give equal lists.
+//! sets, including for points exactly at the cut-off (excluded by both). The canonical lists
+//! ([`neighbor_list_cells`], [`neighbor_list_kdtree`]) sort each particle's neighbours by index:
+//! equal sets give equal lists. [`CellGrid::neighbor_list`] leaves them in cell-scan order (a
+//! deterministic function of the positions; the solvers' lists).
 //!
 //! Lists are built in parallel over fixed blocks of query particles and concatenated in block
 //! order, so the result does not depend on the thread schedule.
@@ -25,7 +27,8 @@ pub fn distance_squared<D: Dim>(a: D::Vector, b: D::Vector) -> f64 {
 }
 
 /// A compressed sparse-row neighbour list: the neighbours of query particle `i` are
-/// `indices[offsets[i]..offsets[i + 1]]`, sorted ascending. For a contact list the indices refer
+/// `indices[offsets[i]..offsets[i + 1]]` (sorted ascending in the canonical lists, in cell-scan
+/// order from [`CellGrid::neighbor_list`]). For a contact list the indices refer
 /// to the other point set.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct NeighborList {
@@ -62,7 +65,7 @@ impl NeighborList {
         self.len() == 0
     }
 
-    /// Neighbours of query particle `i` (sorted ascending).
+    /// Neighbours of query particle `i`, in the row's order.
     #[inline(always)]
     pub fn neighbors(&self, i: usize) -> &[u32] {
         &self.indices[self.offsets[i]..self.offsets[i + 1]]
@@ -168,6 +171,128 @@ impl NeighborList {
         }
         debug_assert_eq!(offsets.len(), n + 1);
         Self { offsets, indices }
+    }
+}
+
+/// Neighbour rows of a fixed point set, read one particle at a time: a stored
+/// [`NeighborList`], or a search on demand ([`GridNeighbours`]) that holds no list at all. What
+/// a domain decomposition needs of the neighbours ([`crate::decomposition`]).
+pub trait Neighbours: Sync {
+    /// Number of particles.
+    fn len(&self) -> usize;
+
+    /// Whether there are no particles.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Calls `f(j)` for each neighbour `j` of particle `i`, in the row's order.
+    fn for_each_neighbour(&self, i: usize, f: impl FnMut(u32));
+
+    /// The number of neighbours of particle `i`.
+    fn neighbour_count(&self, i: usize) -> usize {
+        let mut c = 0;
+        self.for_each_neighbour(i, |_| c += 1);
+        c
+    }
+}
+
+impl Neighbours for NeighborList {
+    fn len(&self) -> usize {
+        NeighborList::len(self)
+    }
+
+    fn for_each_neighbour(&self, i: usize, f: impl FnMut(u32)) {
+        self.neighbors(i).iter().copied().for_each(f);
+    }
+
+    fn neighbour_count(&self, i: usize) -> usize {
+        self.count(i)
+    }
+}
+
+/// The neighbour rows of the points a [`CellGrid`] was built from, searched when asked for:
+/// row `i` is exactly row `i` of [`CellGrid::neighbor_list`] (same neighbours, same order),
+/// without the list's memory. A rank of a distributed run uses it to find its halo and to
+/// build the rows of its own particles only.
+pub struct GridNeighbours<'a, D: Dim> {
+    grid: &'a CellGrid<D>,
+    positions: &'a [D::Vector],
+    cutoff: f64,
+}
+
+impl<'a, D: Dim> GridNeighbours<'a, D> {
+    /// The rows of `positions` (the points `grid` was built from) within `cutoff`.
+    ///
+    /// # Errors
+    /// `cutoff` not positive or larger than the grid's cell size, or `positions` of another
+    /// length than the grid's.
+    pub fn new(
+        grid: &'a CellGrid<D>,
+        positions: &'a [D::Vector],
+        cutoff: f64,
+    ) -> Result<Self, Error> {
+        check_positive("cutoff", cutoff)?;
+        if cutoff > grid.cell_size * (1.0 + 1e-12) {
+            return Err(Error::invalid(
+                "cutoff",
+                cutoff,
+                &format!("<= the cell size {}", grid.cell_size),
+            ));
+        }
+        if positions.len() != grid.sorted.len() {
+            return Err(Error::invalid(
+                "positions",
+                positions.len(),
+                &format!("the {} points the grid was built from", grid.sorted.len()),
+            ));
+        }
+        Ok(Self {
+            grid,
+            positions,
+            cutoff,
+        })
+    }
+
+    /// The neighbour counts of all particles (in parallel).
+    pub fn counts(&self) -> Vec<u32> {
+        (0..self.positions.len())
+            .into_par_iter()
+            .with_min_len(BLOCK)
+            .map(|i| self.neighbour_count(i) as u32)
+            .collect()
+    }
+
+    /// The first particle that coincides with one of its neighbours, if any (a zero distance:
+    /// no kernel gradient can be formed).
+    pub fn first_coincident(&self) -> Option<usize> {
+        (0..self.positions.len())
+            .into_par_iter()
+            .with_min_len(BLOCK)
+            .find_first(|&i| {
+                let xi = self.positions[i];
+                let mut hit = false;
+                self.for_each_neighbour(i, |j| {
+                    hit |= distance_squared::<D>(xi, self.positions[j as usize]) == 0.0;
+                });
+                hit
+            })
+    }
+}
+
+impl<D: Dim> Neighbours for GridNeighbours<'_, D> {
+    fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    fn for_each_neighbour(&self, i: usize, mut f: impl FnMut(u32)) {
+        let xi = self.positions[i];
+        let rc2 = self.cutoff * self.cutoff;
+        self.grid.for_each_candidate_at(xi, |j, xj| {
+            if j as usize != i && distance_squared::<D>(xi, xj) < rc2 {
+                f(j);
+            }
+        });
     }
 }
 

@@ -355,7 +355,14 @@ impl Scene {
                 ])
                 .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
-                let mut s = sph_tl::TlSolver::new(body, law, shear, params)
+                let distributed = options.ranks.as_ref().is_some_and(|c| c.size() > 1);
+                // On ranks, each builds the neighbour data of its own share only.
+                let built = if distributed {
+                    sph_tl::TlSolver::for_ranks(body, law, shear, params)
+                } else {
+                    sph_tl::TlSolver::new(body, law, shear, params)
+                };
+                let mut s = built
                     .map_err(|e| self.core(numerics_span.clone(), "numerics", e))?
                     .with_constraints(constraints)
                     .with_loads(loads)

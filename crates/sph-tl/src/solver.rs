@@ -6,7 +6,7 @@ use crate::reference_pairs::{with_pair_rows, PairScalar, PairStorage, PairView, 
 use crate::{ganzenmuller, hourglass_free, original};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use sph_core::correction::{correction_matrices_at, DEFAULT_MIN_EIGENVALUE};
+use sph_core::correction::{correction_matrices_counted, DEFAULT_MIN_EIGENVALUE};
 use sph_core::diagnostics;
 use sph_core::disorder::{disorder_indicator, ReferenceWeights};
 use sph_core::distributed::OverRanks;
@@ -160,6 +160,8 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     pairs: ReferencePairs<D>,
     correction: Vec<D::Matrix>,
     guarded: usize,
+    /// The neighbour data wait for [`distribute`] ([`TlSolver::for_ranks`]).
+    deferred: bool,
     // State.
     positions: Vec<D::Vector>,
     velocities: Vec<D::Vector>,
@@ -201,6 +203,24 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     domain: Option<Arc<sph_core::distributed::Domain>>,
 }
 
+/// The pair scalar a shear treatment reads.
+fn pair_scalar(shear: Shear) -> PairScalar {
+    match shear {
+        Shear::Original => PairScalar::None,
+        Shear::HourglassFree { .. } => PairScalar::Laplacian,
+        Shear::Ganzenmuller { .. } => PairScalar::Penalty,
+    }
+}
+
+/// The error for particle `i` at zero distance from a neighbour in the reference configuration.
+fn coincident_error(i: usize) -> Error {
+    Error::invalid(
+        "positions",
+        format!("particle {i} coincides with a neighbour"),
+        "distinct reference positions",
+    )
+}
+
 impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// Builds the solver: neighbours, kernel data and correction matrices in the reference
     /// configuration.
@@ -215,12 +235,70 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         shear: Shear,
         params: TlParams,
     ) -> Result<Self, Error> {
-        let body: Body<D> = body.into();
+        let mut solver = Self::assemble(body.into(), material, shear, params)?;
+        let grid = CellGrid::<D>::build(&solver.reference, solver.kernel.cutoff())?;
+        let list = grid.neighbor_list(&solver.reference, solver.kernel.cutoff())?;
+        drop(grid);
+        if let Some(i) = (0..list.len()).find(|&i| list.count(i) < D::D) {
+            return Err(Error::TooFewNeighbours {
+                particle: i,
+                found: list.count(i),
+                required: D::D,
+            });
+        }
+        solver.build_reference_data(list, |_| true)?;
+        solver.refresh_rates();
+        Ok(solver)
+    }
+
+    /// A solver of the whole body **to be distributed** ([`distribute`]): the particles and
+    /// their initial state, to which constraints, loads and probes are attached as to
+    /// [`TlSolver::new`]'s, but without the neighbour list, pair data and correction matrices
+    /// of the whole body. Each rank builds those for its own particles and halo only, so no
+    /// rank ever holds them for the whole body (docs/distributed.md). The results are those of
+    /// [`TlSolver::new`], bit for bit. Such a solver cannot step before it is distributed.
+    ///
+    /// # Errors
+    /// As [`TlSolver::new`], except the neighbour checks, which [`distribute`] makes.
+    pub fn for_ranks(
+        body: impl Into<Body<D>>,
+        material: M,
+        shear: Shear,
+        params: TlParams,
+    ) -> Result<Self, Error> {
+        Self::assemble(body.into(), material, shear, params)
+    }
+
+    /// Whether the reference data wait for [`distribute`] ([`TlSolver::for_ranks`]).
+    pub fn is_deferred(&self) -> bool {
+        self.deferred
+    }
+
+    /// Refuses `what` on a solver whose neighbour data wait for [`distribute`].
+    fn built(&self, what: &str) -> Result<(), Error> {
+        if self.deferred {
+            return Err(Error::invalid(
+                what,
+                "a solver built for ranks (TlSolver::for_ranks)",
+                "a solver distributed with sph_tl::distribute, or built with TlSolver::new",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The checked body, kernel and initial state, without any neighbour data: the state
+    /// arrays that depend on them (`F`, `Ḟ`, stresses, accelerations, correction matrices) are
+    /// left empty until [`Self::build_reference_data`].
+    fn assemble(body: Body<D>, material: M, shear: Shear, params: TlParams) -> Result<Self, Error> {
         body.validate("tl body")?;
         body.reject_densities("tl")?;
         check_positive("h_over_dp", params.h_over_dp)?;
         check_positive("cfl", params.cfl)?;
         check_positive("min_dt_ratio", params.min_dt_ratio)?;
+        check_positive(
+            "correction_min_eigenvalue",
+            params.correction_min_eigenvalue,
+        )?;
         shear.validate()?;
         let n = body.len();
         let velocities = body.velocities_or_rest();
@@ -229,51 +307,23 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         let sound_speed = constants.sound_speed;
         let kernel = WendlandC2::<D>::from_spacing(body.dp, params.h_over_dp)?;
         let reference = body.positions;
-        let list = CellGrid::<D>::build(&reference, kernel.cutoff())?
-            .neighbor_list(&reference, kernel.cutoff())?;
-        if let Some(i) = (0..n).find(|&i| list.count(i) < D::D) {
-            return Err(Error::TooFewNeighbours {
-                particle: i,
-                found: list.count(i),
-                required: D::D,
-            });
-        }
         let volumes = body.volumes;
-        let scalar = match shear {
-            Shear::Original => PairScalar::None,
-            Shear::HourglassFree { .. } => PairScalar::Laplacian,
-            Shear::Ganzenmuller { .. } => PairScalar::Penalty,
-        };
-        let (pairs, coincident) = ReferencePairs::new(
-            &list,
-            &reference,
-            &volumes,
-            &kernel,
-            scalar,
-            params.pair_storage,
-        );
-        if let Some(k) = coincident {
-            let i = list.offsets().partition_point(|&o| o <= k) - 1;
-            return Err(Error::invalid(
-                "positions",
-                format!("particle {i} coincides with a neighbour"),
-                "distinct reference positions",
-            ));
-        }
-        let corr = correction_matrices_at::<D, _>(
-            &list,
-            &reference,
-            &kernel,
-            &volumes,
-            params.correction_min_eigenvalue,
-        )?;
         let gamma = if params.damping {
             damping_coefficient(density, sound_speed, kernel.h())
         } else {
             0.0
         };
         let masses = volumes.iter().map(|v| v * density).collect();
-        let mut solver = Self {
+        let pairs = ReferencePairs::new(
+            &NeighborList::default(),
+            &reference,
+            &volumes,
+            &kernel,
+            pair_scalar(shear),
+            params.pair_storage,
+        )
+        .0;
+        Ok(Self {
             material,
             shear,
             params,
@@ -285,20 +335,17 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             reference,
             volumes,
             masses,
-            list,
+            list: NeighborList::default(),
             pairs,
-            correction: corr.matrices,
-            guarded: corr.guarded,
+            correction: Vec::new(),
+            guarded: 0,
+            deferred: true,
             velocities,
-            deformation: vec![D::identity(); n],
-            deformation_rate: vec![D::zero_matrix(); n],
-            accelerations: vec![D::zero(); n],
-            stress: vec![D::zero_matrix(); n],
-            isochoric: if matches!(shear, Shear::HourglassFree { .. }) {
-                vec![1.0; n]
-            } else {
-                Vec::new()
-            },
+            deformation: Vec::new(),
+            deformation_rate: Vec::new(),
+            accelerations: Vec::new(),
+            stress: Vec::new(),
+            isochoric: Vec::new(),
             constraints: Constraints::new(),
             free: vec![true; n],
             loads: Loads::new(),
@@ -319,9 +366,56 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             min_stretch: 1.0,
             max_stretch: 1.0,
             domain: None,
+        })
+    }
+
+    /// Builds the reference data of the current particles over the neighbour list `list`:
+    /// pair data, correction matrices (the guarded ones counted where `counted`) and the state
+    /// arrays of their size (`F = I`, `Ḟ = 0`). Does not refresh the rates.
+    ///
+    /// # Errors
+    /// Coincident reference positions (a neighbour at zero distance).
+    fn build_reference_data(
+        &mut self,
+        list: NeighborList,
+        counted: impl Fn(usize) -> bool + Sync + Send,
+    ) -> Result<(), Error> {
+        let n = self.reference.len();
+        let (pairs, coincident) = ReferencePairs::new(
+            &list,
+            &self.reference,
+            &self.volumes,
+            &self.kernel,
+            pair_scalar(self.shear),
+            self.params.pair_storage,
+        );
+        if let Some(k) = coincident {
+            let i = list.offsets().partition_point(|&o| o <= k) - 1;
+            return Err(coincident_error(i));
+        }
+        let corr = correction_matrices_counted::<D, _>(
+            &list,
+            &self.reference,
+            &self.kernel,
+            &self.volumes,
+            self.params.correction_min_eigenvalue,
+            counted,
+        )?;
+        self.list = list;
+        self.pairs = pairs;
+        self.correction = corr.matrices;
+        self.guarded = corr.guarded;
+        self.deformation = vec![D::identity(); n];
+        self.deformation_rate = vec![D::zero_matrix(); n];
+        self.accelerations = vec![D::zero(); n];
+        self.stress = vec![D::zero_matrix(); n];
+        self.isochoric = if matches!(self.shear, Shear::HourglassFree { .. }) {
+            vec![1.0; n]
+        } else {
+            Vec::new()
         };
-        solver.refresh_rates();
-        Ok(solver)
+        self.deferred = false;
+        Ok(())
     }
 
     /// Attaches the constraints (applied to velocities and accelerations at the points of the
@@ -375,6 +469,13 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// # Errors
     /// Invalid damping parameters.
     pub fn with_relaxation(mut self, damping: PairwiseDamping) -> Result<Self, Error> {
+        if self.deferred {
+            return Err(Error::invalid(
+                "ranks",
+                "a solver built for ranks",
+                "1 for a TL run with the pairwise relaxation (not distributed yet)",
+            ));
+        }
         self.relaxation = Some(PairwiseDamper::new::<D, _>(
             damping,
             &self.list,
@@ -502,6 +603,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// `x` by the corrected SPH gradient (the state a prescribed deformation gives), and `Ḟ` from
     /// `v`. For tests and for starting from a pre-deformed state.
     pub fn set_configuration(&mut self, x: Vec<D::Vector>, v: Vec<D::Vector>) -> Result<(), Error> {
+        self.built("set_configuration")?;
         let n = self.len();
         if x.len() != n || v.len() != n {
             return Err(Error::invalid(
@@ -578,6 +680,10 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     fn refresh_rates(&mut self) {
         self.constraints
             .apply_to_velocities(self.time, &mut self.velocities);
+        if self.deferred {
+            // No neighbour data yet: the rates follow when the rank builds its share.
+            return;
+        }
         let view = self
             .pairs
             .view(&self.list, &self.reference, &self.volumes, &self.kernel);
@@ -829,6 +935,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
 
     /// One position-Verlet step (TL paper eq 30–32).
     fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
+        self.built("step")?;
         let stable = self.stable_dt();
         let min_dt =
             self.params.min_dt_ratio * self.params.cfl * self.kernel.h() / self.sound_speed;

@@ -13,6 +13,17 @@ const DP: f64 = 0.1;
 
 /// A 4 × 4 × 16 column of side 0.4 (256 particles), bending sideways.
 fn column(clamped: bool, shear: Shear, storage: PairStorage) -> TlSolver<D3, NeoHookean> {
+    column_built(clamped, shear, storage, false)
+}
+
+/// The column, built whole (`TlSolver::new`) or for ranks (`TlSolver::for_ranks`: no
+/// neighbour data until distributed).
+fn column_built(
+    clamped: bool,
+    shear: Shear,
+    storage: PairStorage,
+    for_ranks: bool,
+) -> TlSolver<D3, NeoHookean> {
     let shape = Aabb::<D3>::new(DVec3::ZERO, DVec3::new(0.4, 0.4, 1.6)).unwrap();
     let set = ParticleSet::fill(&Lattice::new(DP, DVec3::ZERO).unwrap(), &shape).unwrap();
     let clamp = set.select(|x| x.z < 2.0 * DP);
@@ -22,7 +33,11 @@ fn column(clamped: bool, shear: Shear, storage: PairStorage) -> TlSolver<D3, Neo
         pair_storage: storage,
         ..TlParams::default()
     };
-    let s = TlSolver::new(body, law, shear, params).unwrap();
+    let s = if for_ranks {
+        TlSolver::for_ranks(body, law, shear, params).unwrap()
+    } else {
+        TlSolver::new(body, law, shear, params).unwrap()
+    };
     let probe = Probe::point(
         "tip",
         DVec3::new(0.2, 0.2, 1.6),
@@ -72,6 +87,113 @@ fn distributed(ranks: usize, clamped: bool, shear: Shear, storage: PairStorage) 
         let mut s = distribute(column(clamped, shear, storage), comm).unwrap();
         run(&mut s)
     })
+}
+
+/// As [`distributed`], each rank building only its share's reference data.
+fn distributed_for_ranks(ranks: usize, shear: Shear, storage: PairStorage) -> Vec<Outcome> {
+    ThreadRanks::run(ranks, |comm: Arc<dyn Communicator>| {
+        let mut s = distribute(column_built(true, shear, storage, true), comm).unwrap();
+        run(&mut s)
+    })
+}
+
+#[test]
+fn ranks_that_build_only_their_share_end_bit_identical_to_one_process() {
+    for shear in [
+        Shear::hourglass_free(),
+        Shear::Original,
+        Shear::ganzenmuller(),
+    ] {
+        let whole = column(true, shear, PairStorage::Stored);
+        let guarded = whole.guarded_particles();
+        let serial = run(&mut column(true, shear, PairStorage::Stored));
+        for (ranks, storage) in
+            (1..=3).flat_map(|r| [(r, PairStorage::Stored), (r, PairStorage::Recomputed)])
+        {
+            let outcomes = distributed_for_ranks(ranks, shear, storage);
+            for (rank, d) in outcomes.iter().enumerate() {
+                let at = format!(
+                    "{} built for {ranks} ranks ({}), rank {rank}",
+                    shear.method_name(),
+                    storage.name()
+                );
+                assert_eq!(d.time, serial.time, "{at}");
+                assert!(d.positions == serial.positions, "{at}: positions differ");
+                assert!(d.velocities == serial.velocities, "{at}: velocities differ");
+                assert!(d.probe == serial.probe, "{at}: probe differs");
+                assert!((d.momentum - serial.momentum).length() <= 1e-12, "{at}");
+            }
+        }
+        // The guarded particles are counted once, by their owners.
+        let counts = ThreadRanks::run(3, |comm: Arc<dyn Communicator>| {
+            let s = distribute(column_built(true, shear, PairStorage::Stored, true), comm).unwrap();
+            s.local().guarded_particles()
+        });
+        assert!(
+            counts.iter().all(|&g| g == guarded),
+            "{counts:?} vs {guarded}"
+        );
+    }
+}
+
+#[test]
+fn each_rank_holds_only_its_share_of_the_pairs() {
+    let whole = column(true, Shear::hourglass_free(), PairStorage::Stored);
+    let total = whole.neighbors().num_pairs();
+    let local = ThreadRanks::run(3, |comm: Arc<dyn Communicator>| {
+        let s = distribute(
+            column_built(true, Shear::hourglass_free(), PairStorage::Stored, true),
+            comm,
+        )
+        .unwrap();
+        s.local().neighbors().num_pairs()
+    });
+    // Owned rows and halo layer 1's: each rank well under the whole body's pairs.
+    for &l in &local {
+        assert!(l < total, "{l} of {total}");
+    }
+    assert!(
+        local.iter().sum::<usize>() < 2 * total,
+        "{local:?} of {total}"
+    );
+}
+
+#[test]
+fn a_solver_built_for_ranks_does_not_step_before_it_is_distributed() {
+    let mut s = column_built(true, Shear::hourglass_free(), PairStorage::Stored, true);
+    assert!(s.is_deferred());
+    let e = s.step(f64::INFINITY).unwrap_err().to_string();
+    assert!(e.contains("step") && e.contains("distribute"), "{e}");
+}
+
+#[test]
+fn a_body_with_an_isolated_particle_is_refused_on_every_rank_as_on_one_process() {
+    let shape = Aabb::<D3>::new(DVec3::ZERO, DVec3::new(0.4, 0.4, 0.4)).unwrap();
+    let set = ParticleSet::fill(&Lattice::new(DP, DVec3::ZERO).unwrap(), &shape).unwrap();
+    let mut body = Body::from(set);
+    body.positions.push(DVec3::new(5.0, 5.0, 5.0));
+    body.volumes.push(DP * DP * DP);
+    let law = NeoHookean::new(ElasticConstants::from_youngs(2e6, 0.4, 1000.0).unwrap());
+    let one = TlSolver::new(
+        body.clone(),
+        law,
+        Shear::hourglass_free(),
+        TlParams::default(),
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    let errors = ThreadRanks::run(2, |comm: Arc<dyn Communicator>| {
+        let s = TlSolver::for_ranks(
+            body.clone(),
+            law,
+            Shear::hourglass_free(),
+            TlParams::default(),
+        )
+        .unwrap();
+        distribute(s, comm).err().unwrap().to_string()
+    });
+    assert!(errors.iter().all(|e| *e == one), "{errors:?} vs {one}");
 }
 
 #[test]

@@ -184,16 +184,17 @@ where
     MaterialModel: sph_materials::Material<D>,
 {
     let shear = shear_of(method, p)?;
-    let solver = TlSolver::new(body, material, shear, tl_numerics(p))?;
-    let mut solver = attach(solver)?;
-    let mut meta = meta(case, method, p, solver.len());
-    meta.insert(
-        "guarded_particles".into(),
-        json!(solver.guarded_particles()),
-    );
     let schedule = schedule(p, end_time);
     if let Some(comm) = options.ranks.as_ref().filter(|c| c.size() > 1) {
+        // Each rank builds the neighbour data of its own share only (docs/distributed.md).
+        let solver = TlSolver::for_ranks(body, material, shear, tl_numerics(p))?;
+        let solver = attach(solver)?;
         let mut solver = sph_tl::distribute(solver, comm.clone())?;
+        let mut meta = meta(case, method, p, solver.len());
+        meta.insert(
+            "guarded_particles".into(),
+            json!(solver.local().guarded_particles()),
+        );
         return Ok(drive::<D>(
             &mut solver,
             meta,
@@ -203,6 +204,13 @@ where
             summarise,
         )?);
     }
+    let solver = TlSolver::new(body, material, shear, tl_numerics(p))?;
+    let mut solver = attach(solver)?;
+    let mut meta = meta(case, method, p, solver.len());
+    meta.insert(
+        "guarded_particles".into(),
+        json!(solver.guarded_particles()),
+    );
     Ok(drive::<D>(
         &mut solver,
         meta,
