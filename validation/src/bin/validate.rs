@@ -69,7 +69,7 @@ enum Command {
     },
     /// UL validation runs (UL paper §6), then the report.
     Ul {
-        /// Include the 3D plate at H/dp = 5, mode (2, 2) (200,000 particles).
+        /// Include the 3D plate at H/dp = 5, all three modes (200,000 particles; 25–60 min each).
         #[arg(long)]
         fine: bool,
         /// Re-run stored runs.
