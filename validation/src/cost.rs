@@ -121,6 +121,26 @@ pub fn run_or_load_writing(
             }
         }
     }
+    if crate::store::plan_only() {
+        // `validate --plan tradeoff`: list the run (made by `validate tradeoff`, which times
+        // it), do not make it.
+        let sets: String = set.iter().map(|s| format!(" --set {s}")).collect();
+        let how = if output { "" } else { " --no-output" };
+        println!("{id}\tsph run {case} --method {method}{sets} --threads {threads}{how}");
+        return Ok(CostedRun {
+            id: id.into(),
+            case: case.into(),
+            method: method.into(),
+            set: set.to_vec(),
+            command: String::new(),
+            exit_code: -1,
+            cpu_seconds: f64::NAN,
+            wall_seconds: f64::NAN,
+            max_rss_mib: f64::NAN,
+            summary: Map::new(),
+            message: "planned, not run".into(),
+        });
+    }
     let sph = sph_binary()?;
     std::fs::create_dir_all(dir()).map_err(|e| format!("{}: {e}", dir().display()))?;
     let summary_path = dir().join(format!("{id}.summary.tmp.json"));

@@ -135,6 +135,11 @@ pub fn set_plan_only(plan: bool) {
     PLAN_ONLY.store(plan, std::sync::atomic::Ordering::Relaxed);
 }
 
+/// Whether runs are planned, not made ([`set_plan_only`]).
+pub fn plan_only() -> bool {
+    PLAN_ONLY.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 static RUN_FILTER: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
 
 /// Make only the runs whose id starts with `prefix` ([`run_or_load_then`] returns the others

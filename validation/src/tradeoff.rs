@@ -447,7 +447,9 @@ pub fn run_all(sel: Selection) -> Result<(), String> {
         }
     }
     if wanted("features") {
-        if sel.quick {
+        if crate::store::plan_only() {
+            println!("features\tvalidate tradeoff --only features (timed, median of three)");
+        } else if sel.quick {
             println!(
                 "features: the feature-cost table is timed (median of three at one thread); \
                  not part of --quick (`validate tradeoff --only features` makes it)"

@@ -169,15 +169,15 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
     }
-    if cli.plan {
-        return ExitCode::SUCCESS;
-    }
     if let Command::Tradeoff { quick, force, only } = &cli.command {
         let (quick, force, only) = (*quick, *force, only.clone());
         if let Err(e) = tradeoff::run_all(tradeoff::Selection { quick, force, only }) {
             eprintln!("error: {e}");
             return ExitCode::from(1);
         }
+    }
+    if cli.plan {
+        return ExitCode::SUCCESS;
     }
     if let Err(e) = tradeoff::report(&workspace_root()) {
         eprintln!("error: {e}");
