@@ -60,7 +60,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         Ok(solver)
     }
 
-    /// A solver of the whole body **to be distributed** ([`distribute`]): the particles and
+    /// A solver of the whole body **to be distributed** ([`distribute`](super::distribute)): the particles and
     /// their initial state, to which constraints, loads and probes are attached as to
     /// [`TlSolver::new`]'s, but without the neighbour list, pair data and correction matrices
     /// of the whole body. Each rank builds those for its own particles and halo only, so no
@@ -68,7 +68,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// [`TlSolver::new`], bit for bit. Such a solver cannot step before it is distributed.
     ///
     /// # Errors
-    /// As [`TlSolver::new`], except the neighbour checks, which [`distribute`] makes.
+    /// As [`TlSolver::new`], except the neighbour checks, which [`distribute`](super::distribute) makes.
     pub fn for_ranks(
         body: impl Into<Body<D>>,
         material: M,
@@ -78,12 +78,12 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         Self::assemble(body.into(), material, shear, params)
     }
 
-    /// Whether the reference data wait for [`distribute`] ([`TlSolver::for_ranks`]).
+    /// Whether the reference data wait for [`distribute`](super::distribute) ([`TlSolver::for_ranks`]).
     pub fn is_deferred(&self) -> bool {
         self.deferred
     }
 
-    /// Refuses `what` on a solver whose neighbour data wait for [`distribute`].
+    /// Refuses `what` on a solver whose neighbour data wait for [`distribute`](super::distribute).
     pub(super) fn built(&self, what: &str) -> Result<(), Error> {
         if self.deferred {
             return Err(Error::invalid(
