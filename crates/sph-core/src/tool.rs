@@ -107,6 +107,13 @@ impl<D: Dim> ToolShape<D> {
         let half_side = (0..D::D)
             .map(|k| 0.5 * (D::component(max, k) - D::component(min, k)))
             .fold(f64::INFINITY, f64::min);
+        // Corners given as offsets from a centre lose the last bits of their difference: a
+        // radius of exactly half the intended side must not be refused for that.
+        let radius = if radius > half_side && radius <= half_side * (1.0 + 1e-9) {
+            half_side
+        } else {
+            radius
+        };
         if !(radius.is_finite() && (0.0..=half_side).contains(&radius)) {
             return Err(Error::invalid(
                 "tool corner radius",
@@ -606,6 +613,22 @@ mod tests {
         assert!((m.distance(m.arrival_time()) - 0.1).abs() < 1e-12);
         assert!(ToolMotion::<D2>::new(DVec2::ZERO, 1.0, 0.0, 1.0).is_err());
         assert!(ToolMotion::<D2>::new(DVec2::X, 1.0, 0.0, 0.0).is_err());
+    }
+
+    #[test]
+    fn a_corner_radius_of_half_the_side_is_accepted_when_the_corners_round_off() {
+        // (1.5e-3 + 3e-4) − 1.5e-3 = 2.9999999999999992e-4: half of it is below 1.5e-4.
+        let (h, t) = (1.5e-3, 3e-4);
+        let min = DVec2::new(-4.5e-3, h);
+        let max = DVec2::new(4.5e-3, h + t);
+        assert!((max.y - min.y) * 0.5 < 1.5e-4);
+        let s = ToolShape::<D2>::rounded_cuboid(min, max, 1.5e-4).unwrap();
+        let ToolShape::RoundedBox { radius, .. } = s else {
+            panic!("{s:?}")
+        };
+        assert_eq!(radius, 0.5 * (max.y - min.y));
+        // Beyond round-off it is still refused.
+        assert!(ToolShape::<D2>::rounded_cuboid(min, max, 1.51e-4).is_err());
     }
 
     #[test]
