@@ -548,14 +548,20 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         "## MPS: disorder indicator over time (ring, slab, colliding rings)\n"
     )
     .unwrap();
+    let full_slab = if load(SLAB_FULL_ID).is_some() {
+        "the paper's H/dp = 62, run toward its 1 s (`validate mps --full`), stops where the \
+         material gives out (its row below: time and reason in the status)"
+    } else {
+        "the paper's H/dp = 62 to its 1 s is `validate mps --full` (estimate below)"
+    };
     writeln!(
         md,
         "The paper's model (no stabilisation). Slab: 3 × 1 cm, SVK, end strips accelerated along \
          x at 0.5 m/s² (roller grips: v_y free; see the stabilised section for rigid ones), to \
          t = 0.15 s at H/dp = 20 (plane-strain SVK itself fails soon after: see the stabilised \
-         section); the paper's H/dp = 62 to its 1 s is `validate mps --full` (estimate below). Colliding rings: one MPS body with the penalty \
-         contact of `sph_mps::contact` between the rings (the paper's rings collide but it does \
-         not describe its contact).\n"
+         section); {full_slab}. Colliding rings: one MPS body with the penalty contact of \
+         `sph_mps::contact` between the rings (the paper's rings collide but it does not \
+         describe its contact).\n"
     )
     .unwrap();
     let mut dis = Vec::new();
@@ -655,7 +661,11 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         .unwrap();
     }
     for s in &dis {
-        let name = s.label.replace([' ', ','], "_").replace('=', "");
+        // A file name from the label: no separators, no '/' (a label may say "H/dp").
+        let name = s
+            .label
+            .replace([' ', ',', '/'], "_")
+            .replace(['=', '(', ')'], "");
         line_plot(
             &fig_dir.join(format!("mps_disorder_{name}.png")),
             &format!("MPS disorder indicator: {}", s.label),
