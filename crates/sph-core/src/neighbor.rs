@@ -232,21 +232,7 @@ impl<'a, D: Dim> GridNeighbours<'a, D> {
         positions: &'a [D::Vector],
         cutoff: f64,
     ) -> Result<Self, Error> {
-        check_positive("cutoff", cutoff)?;
-        if cutoff > grid.cell_size * (1.0 + 1e-12) {
-            return Err(Error::invalid(
-                "cutoff",
-                cutoff,
-                &format!("<= the cell size {}", grid.cell_size),
-            ));
-        }
-        if positions.len() != grid.sorted.len() {
-            return Err(Error::invalid(
-                "positions",
-                positions.len(),
-                &format!("the {} points the grid was built from", grid.sorted.len()),
-            ));
-        }
+        grid.check_query("positions", positions.len(), cutoff)?;
         Ok(Self {
             grid,
             positions,
@@ -479,6 +465,27 @@ impl<D: Dim> CellGrid<D> {
         }
     }
 
+    /// A query of `cutoff` over `n` points named `what` must use the points the grid was
+    /// built from, with a cut-off no larger than the cell size.
+    fn check_query(&self, what: &str, n: usize, cutoff: f64) -> Result<(), Error> {
+        check_positive("cutoff", cutoff)?;
+        if cutoff > self.cell_size * (1.0 + 1e-12) {
+            return Err(Error::invalid(
+                "cutoff",
+                cutoff,
+                &format!("<= the cell size {}", self.cell_size),
+            ));
+        }
+        if n != self.sorted.len() {
+            return Err(Error::invalid(
+                what,
+                n,
+                &format!("the {} points the grid was built from", self.sorted.len()),
+            ));
+        }
+        Ok(())
+    }
+
     /// Neighbour list of the points this grid was built from (`positions` must be the same
     /// slice): `j ≠ i` with `|x_i − x_j| < cutoff`. `cutoff` must not exceed the cell size.
     ///
@@ -513,21 +520,7 @@ impl<D: Dim> CellGrid<D> {
         cutoff: f64,
         exclude_self: bool,
     ) -> Result<NeighborList, Error> {
-        check_positive("cutoff", cutoff)?;
-        if cutoff > self.cell_size * (1.0 + 1e-12) {
-            return Err(Error::invalid(
-                "cutoff",
-                cutoff,
-                &format!("<= the cell size {}", self.cell_size),
-            ));
-        }
-        if targets.len() != self.sorted.len() {
-            return Err(Error::invalid(
-                "targets",
-                targets.len(),
-                &format!("the {} points the grid was built from", self.sorted.len()),
-            ));
-        }
+        self.check_query("targets", targets.len(), cutoff)?;
         let rc2 = cutoff * cutoff;
         let blocks: Vec<(Vec<u32>, Vec<u32>)> = queries
             .par_chunks(BLOCK)

@@ -82,6 +82,19 @@ fn run(s: &mut dyn Solver<D3>) -> Outcome {
     }
 }
 
+/// A rank's outcome equals the one-process run's: positions, velocities and probe bit for bit,
+/// energies and momentum to 1e-12 (sums over ranks group the particles differently).
+fn assert_same_as_serial(d: &Outcome, serial: &Outcome, at: &str) {
+    assert_eq!(d.time, serial.time, "{at}");
+    assert!(d.positions == serial.positions, "{at}: positions differ");
+    assert!(d.velocities == serial.velocities, "{at}: velocities differ");
+    assert!(d.probe == serial.probe, "{at}: probe differs");
+    let tol = 1e-12 * (serial.energy.0 + serial.energy.1);
+    assert!((d.energy.0 - serial.energy.0).abs() <= tol, "{at}");
+    assert!((d.energy.1 - serial.energy.1).abs() <= tol, "{at}");
+    assert!((d.momentum - serial.momentum).length() <= 1e-12, "{at}");
+}
+
 fn distributed(ranks: usize, clamped: bool, shear: Shear, storage: PairStorage) -> Vec<Outcome> {
     ThreadRanks::run(ranks, |comm: Arc<dyn Communicator>| {
         let mut s = distribute(column(clamped, shear, storage), comm).unwrap();
@@ -117,11 +130,7 @@ fn ranks_that_build_only_their_share_end_bit_identical_to_one_process() {
                     shear.method_name(),
                     storage.name()
                 );
-                assert_eq!(d.time, serial.time, "{at}");
-                assert!(d.positions == serial.positions, "{at}: positions differ");
-                assert!(d.velocities == serial.velocities, "{at}: velocities differ");
-                assert!(d.probe == serial.probe, "{at}: probe differs");
-                assert!((d.momentum - serial.momentum).length() <= 1e-12, "{at}");
+                assert_same_as_serial(d, &serial, &at);
             }
         }
         // The guarded particles are counted once, by their owners.
@@ -215,15 +224,7 @@ fn one_two_and_three_ranks_end_bit_identical_to_one_process() {
                     shear.method_name(),
                     storage.name()
                 );
-                assert_eq!(d.time, serial.time, "{at}");
-                assert!(d.positions == serial.positions, "{at}: positions differ");
-                assert!(d.velocities == serial.velocities, "{at}: velocities differ");
-                assert!(d.probe == serial.probe, "{at}: probe differs");
-                // Sums over ranks group the particles differently: equal to round-off.
-                let tol = 1e-12 * (serial.energy.0 + serial.energy.1);
-                assert!((d.energy.0 - serial.energy.0).abs() <= tol, "{at}");
-                assert!((d.energy.1 - serial.energy.1).abs() <= tol, "{at}");
-                assert!((d.momentum - serial.momentum).length() <= 1e-12, "{at}");
+                assert_same_as_serial(d, &serial, &at);
             }
         }
     }

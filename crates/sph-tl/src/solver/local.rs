@@ -102,22 +102,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         domain: Arc<Domain>,
         list: sph_core::NeighborList,
     ) -> Result<Self, Error> {
-        let (global, inv, d) = (domain.global(), domain.local_of(), &*domain);
-        self.reference = d.pick(&self.reference);
-        self.positions = d.pick(&self.positions);
-        self.velocities = d.pick(&self.velocities);
-        self.volumes = d.pick(&self.volumes);
-        self.masses = d.pick(&self.masses);
-        self.free = global
-            .iter()
-            .zip(domain.owned())
-            .map(|(&g, &o)| o && self.free[g as usize])
-            .collect();
-        self.constraints.restrict(inv);
-        self.loads.restrict(inv);
-        for p in &mut self.probes {
-            p.remap(inv);
-        }
+        self.pick_particles(&domain);
         let owned = domain.owned();
         let built = self.build_reference_data(list, |l| owned[l]);
         self.domain = Some(domain.clone());
@@ -133,24 +118,31 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         let (list, pair_ids) = domain.local_rows(&self.list)?;
         self.pairs.pick_slots(&pair_ids);
         self.list = list;
-        let (global, inv, d) = (domain.global(), domain.local_of(), &*domain);
-        let pick = |v: &[D::Vector]| d.pick(v);
-        let pick_m = |v: &[D::Matrix]| d.pick(v);
-        let pick_f = |v: &[f64]| d.pick(v);
-        self.reference = pick(&self.reference);
-        self.positions = pick(&self.positions);
-        self.velocities = pick(&self.velocities);
-        self.accelerations = pick(&self.accelerations);
-        self.volumes = pick_f(&self.volumes);
-        self.masses = pick_f(&self.masses);
-        self.correction = pick_m(&self.correction);
-        self.deformation = pick_m(&self.deformation);
-        self.deformation_rate = pick_m(&self.deformation_rate);
-        self.stress = pick_m(&self.stress);
+        self.pick_particles(&domain);
+        let d = &*domain;
+        self.accelerations = d.pick(&self.accelerations);
+        self.correction = d.pick(&self.correction);
+        self.deformation = d.pick(&self.deformation);
+        self.deformation_rate = d.pick(&self.deformation_rate);
+        self.stress = d.pick(&self.stress);
         if !self.isochoric.is_empty() {
-            self.isochoric = pick_f(&self.isochoric);
+            self.isochoric = d.pick(&self.isochoric);
         }
-        // Time-step maxima over the owned unconstrained particles only.
+        self.domain = Some(domain);
+        Ok(self)
+    }
+
+    /// Keeps `domain`'s particles of what every solver has, built or deferred: the reference
+    /// and current positions, velocities, volumes and masses, the free mask (time-step maxima
+    /// over the owned unconstrained particles only), and the scene's constraints, loads and
+    /// probes relabelled to local indices.
+    fn pick_particles(&mut self, domain: &Domain) {
+        let (global, inv) = (domain.global(), domain.local_of());
+        self.reference = domain.pick(&self.reference);
+        self.positions = domain.pick(&self.positions);
+        self.velocities = domain.pick(&self.velocities);
+        self.volumes = domain.pick(&self.volumes);
+        self.masses = domain.pick(&self.masses);
         self.free = global
             .iter()
             .zip(domain.owned())
@@ -161,8 +153,6 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         for p in &mut self.probes {
             p.remap(inv);
         }
-        self.domain = Some(domain);
-        Ok(self)
     }
 
     /// Overwrites the halo's velocities with their owners' (the step's one message per
