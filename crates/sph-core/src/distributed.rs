@@ -143,13 +143,23 @@ impl Domain {
         list: &impl Neighbours,
         probes: &[Probe<D>],
     ) -> Result<Arc<Self>, Error> {
-        let counts: Vec<u32> = (0..list.len())
-            .into_par_iter()
-            .with_min_len(256)
-            .map(|i| list.neighbour_count(i) as u32)
-            .collect();
-        let partition = Partition::by_counts::<D>(reference, &counts, comm.size())?;
-        drop(counts);
+        let counts = crate::neighbor::neighbour_counts(list);
+        Self::for_body_counted(comm, reference, list, &counts, probes)
+    }
+
+    /// [`Domain::for_body`] with the neighbour counts of `list` already made (a caller that
+    /// checked them need not search the whole body twice). Collective.
+    ///
+    /// # Errors
+    /// More ranks than particles, or counts of another length.
+    pub fn for_body_counted<D: Dim>(
+        comm: Arc<dyn Communicator>,
+        reference: &[D::Vector],
+        list: &impl Neighbours,
+        counts: &[u32],
+        probes: &[Probe<D>],
+    ) -> Result<Arc<Self>, Error> {
+        let partition = Partition::by_counts::<D>(reference, counts, comm.size())?;
         let mut extra = Vec::new();
         for p in probes {
             match &p.target {

@@ -211,6 +211,15 @@ impl Neighbours for NeighborList {
     }
 }
 
+/// The neighbour count of every particle of `list` (in parallel, fixed blocks).
+pub fn neighbour_counts(list: &impl Neighbours) -> Vec<u32> {
+    (0..list.len())
+        .into_par_iter()
+        .with_min_len(BLOCK)
+        .map(|i| list.neighbour_count(i) as u32)
+        .collect()
+}
+
 /// The neighbour rows of the points a [`CellGrid`] was built from, searched when asked for:
 /// row `i` is exactly row `i` of [`CellGrid::neighbor_list`] (same neighbours, same order),
 /// without the list's memory. A rank of a distributed run uses it to find its halo and to
@@ -238,15 +247,6 @@ impl<'a, D: Dim> GridNeighbours<'a, D> {
             positions,
             cutoff,
         })
-    }
-
-    /// The neighbour counts of all particles (in parallel).
-    pub fn counts(&self) -> Vec<u32> {
-        (0..self.positions.len())
-            .into_par_iter()
-            .with_min_len(BLOCK)
-            .map(|i| self.neighbour_count(i) as u32)
-            .collect()
     }
 
     /// The first particle that coincides with one of its neighbours, if any (a zero distance:

@@ -13,7 +13,7 @@
 
 use super::{coincident_error, TlSolver};
 use sph_core::distributed::{DistributedSolver, Domain, OverRanks};
-use sph_core::neighbor::{CellGrid, GridNeighbours, Neighbours};
+use sph_core::neighbor::{neighbour_counts, CellGrid, GridNeighbours};
 use sph_core::{Dim, Error, Kernel};
 use sph_materials::Material;
 use std::sync::Arc;
@@ -47,18 +47,22 @@ pub fn distribute<D: Dim, M: Material<D>>(
     let cutoff = solver.kernel.cutoff();
     let grid = CellGrid::<D>::build(&solver.reference, cutoff)?;
     let source = GridNeighbours::new(&grid, &solver.reference, cutoff)?;
-    // The checks of `TlSolver::new`, on the whole body: every rank finds the same error.
-    if let Some(i) = (0..solver.reference.len()).find(|&i| source.neighbour_count(i) < D::D) {
+    // The checks of `TlSolver::new`, on the whole body: every rank finds the same error. The
+    // counts are the bisection's weights too.
+    let counts = neighbour_counts(&source);
+    if let Some(i) = counts.iter().position(|&c| (c as usize) < D::D) {
         return Err(Error::TooFewNeighbours {
             particle: i,
-            found: source.neighbour_count(i),
+            found: counts[i] as usize,
             required: D::D,
         });
     }
     if let Some(i) = source.first_coincident() {
         return Err(coincident_error(i));
     }
-    let domain = Domain::for_body::<D>(comm, &solver.reference, &source, &solver.probes)?;
+    let domain =
+        Domain::for_body_counted::<D>(comm, &solver.reference, &source, &counts, &solver.probes)?;
+    drop(counts);
     let list = domain.local_list(&source)?;
     drop(grid);
     let local = solver.into_local_deferred(domain.clone(), list)?;
