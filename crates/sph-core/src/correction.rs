@@ -14,7 +14,6 @@ use crate::error::{check_positive, Error};
 use crate::kernel::Kernel;
 use crate::neighbor::NeighborList;
 use crate::pairs::{pair_kernel, PairKernel};
-use rayon::prelude::*;
 
 /// Default smallest-eigenvalue threshold of the guard. On a lattice with `h = 1.15 dp`, `M` is
 /// 0.968 I (2D) or 0.994 I (3D) in the bulk and its smallest eigenvalue is 0.30 (2D) or 0.26
@@ -150,19 +149,13 @@ fn guarded_corrections<D: Dim>(
     moment: impl Fn(usize) -> D::Matrix + Sync + Send,
 ) -> Result<Correction<D>, Error> {
     check_positive("correction_min_eigenvalue", min_eigenvalue)?;
-    let results: Vec<(D::Matrix, bool)> = (0..n)
-        .into_par_iter()
-        .map(|i| guarded_inverse::<D>(moment(i), min_eigenvalue))
-        .collect();
-    let guarded = results
-        .iter()
-        .enumerate()
-        .filter(|(i, r)| r.1 && counted(*i))
-        .count();
-    Ok(Correction {
-        matrices: results.into_iter().map(|r| r.0).collect(),
-        guarded,
-    })
+    let mut matrices = vec![D::zero_matrix(); n];
+    let mut was_guarded = vec![false; n];
+    crate::parallel::gather2(&mut matrices, &mut was_guarded, |i, b, g| {
+        (*b, *g) = guarded_inverse::<D>(moment(i), min_eigenvalue);
+    });
+    let guarded = (0..n).filter(|&i| was_guarded[i] && counted(i)).count();
+    Ok(Correction { matrices, guarded })
 }
 
 #[cfg(test)]

@@ -4,7 +4,6 @@
 use crate::dim::Dim;
 use crate::error::Error;
 use glam::DVec3;
-use rayon::prelude::*;
 
 /// Total linear momentum `Σ m v`.
 pub fn linear_momentum<D: Dim>(velocities: &[D::Vector], masses: &[f64]) -> D::Vector {
@@ -41,11 +40,14 @@ pub fn kinetic_energy<D: Dim>(velocities: &[D::Vector], masses: &[f64]) -> f64 {
 /// Largest `|v|` over the particles whose `mask` entry is true (e.g. the unconstrained ones, for
 /// the time-step criteria). The maximum is exact, so the parallel reduction is deterministic.
 pub fn max_norm_where<D: Dim>(v: &[D::Vector], mask: &[bool]) -> f64 {
-    v.par_iter()
-        .zip(mask)
-        .map(|(&x, &f)| if f { D::norm_squared(x) } else { 0.0 })
-        .reduce(|| 0.0, f64::max)
-        .sqrt()
+    crate::parallel::max_over(v.len(), 0.0, |i| {
+        if mask[i] {
+            D::norm_squared(v[i])
+        } else {
+            0.0
+        }
+    })
+    .sqrt()
 }
 
 /// The collapse threshold every method states (and TL's default `min_dt_ratio`): a run stops
@@ -88,10 +90,10 @@ pub fn check_jacobians<D: Dim>(
     step: u64,
     time: f64,
 ) -> Result<(), Error> {
-    match deformation
-        .par_iter()
-        .position_first(|&f| D::det(f).is_nan() || D::det(f) <= 0.0)
-    {
+    match crate::parallel::first_index(deformation.len(), |i| {
+        let j = D::det(deformation[i]);
+        j.is_nan() || j <= 0.0
+    }) {
         Some(i) => Err(Error::Inverted {
             particle: i,
             jacobian: D::det(deformation[i]),

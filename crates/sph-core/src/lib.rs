@@ -34,6 +34,7 @@ pub mod relaxation;
 pub mod scene;
 pub mod solver;
 pub mod state;
+pub mod team;
 pub mod tool;
 
 pub use body::Body;

@@ -373,10 +373,10 @@ impl<D: Dim> CellGrid<D> {
         };
         // Counting sort: cell of each particle, counts, prefix sum, stable scatter.
         let ncell = dims[0] * dims[1] * dims[2];
-        let cell_of: Vec<u32> = positions
-            .par_iter()
-            .map(|&x| grid.cell_index(x) as u32)
-            .collect();
+        let mut cell_of = vec![0u32; n];
+        crate::parallel::gather(&mut cell_of, |i, c| {
+            *c = grid.cell_index(positions[i]) as u32
+        });
         let mut start = vec![0u32; ncell + 1];
         for &c in &cell_of {
             start[c as usize + 1] += 1;
@@ -522,10 +522,9 @@ impl<D: Dim> CellGrid<D> {
     ) -> Result<NeighborList, Error> {
         self.check_query("targets", targets.len(), cutoff)?;
         let rc2 = cutoff * cutoff;
-        let blocks: Vec<(Vec<u32>, Vec<u32>)> = queries
-            .par_chunks(BLOCK)
-            .enumerate()
-            .map(|(b, chunk)| {
+        let blocks: Vec<(Vec<u32>, Vec<u32>)> =
+            crate::parallel::map_tasks(queries.len().div_ceil(BLOCK), |b| {
+                let chunk = &queries[b * BLOCK..((b + 1) * BLOCK).min(queries.len())];
                 let mut counts = Vec::with_capacity(chunk.len());
                 let mut idx = Vec::with_capacity(chunk.len() * 64);
                 for (k, &xi) in chunk.iter().enumerate() {
@@ -539,8 +538,7 @@ impl<D: Dim> CellGrid<D> {
                     counts.push((idx.len() - start) as u32);
                 }
                 (counts, idx)
-            })
-            .collect();
+            });
         Ok(NeighborList::from_blocks(queries.len(), blocks))
     }
 }

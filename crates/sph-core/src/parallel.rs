@@ -1,6 +1,8 @@
-//! When a loop over particles goes to the rayon pool, in one place for every method.
+//! When a loop over particles is split over threads, in one place for every method.
 //!
-//! A parallel loop costs a hand-off: waking a worker, splitting, joining (measured on the 2D
+//! The loops of a time step run on the [`crate::team`] (helpers that wait actively between
+//! loops, so consecutive loops cost no system call); set-up work (neighbour search, sorting)
+//! stays on rayon. A parallel loop still costs a hand-off: splitting, claiming, joining (measured on the 2D
 //! plate, 1,612 particles: a TL step is ~110 µs of physics in about twenty loops). Loops over
 //! fewer than twice [`MIN_PARTICLES_PER_TASK`] particles therefore stay on the calling thread,
 //! and a loop splits only into tasks of at least that many particles. The value is measured:
@@ -10,28 +12,160 @@
 //! is a gather (each task writes only its own entries, sums in neighbour-list order), so the
 //! results are identical for any thread count and any split.
 
-use rayon::prelude::*;
-
 /// The fewest particles a parallel task gets: loops over fewer than twice this many particles
-/// run on the calling thread. Use with `par_iter().with_min_len(MIN_PARTICLES_PER_TASK)`.
+/// run on the calling thread.
 pub const MIN_PARTICLES_PER_TASK: usize = 512;
 
-/// Whether a loop over `n` particles is split over the rayon pool at all.
+/// Whether a loop over `n` particles is split over threads at all.
 #[inline]
 pub fn worth_splitting(n: usize) -> bool {
     n >= 2 * MIN_PARTICLES_PER_TASK
 }
 
-/// `f(i, &mut out[i])` for every `i`, in tasks of at least [`MIN_PARTICLES_PER_TASK`] entries.
+/// `f(i, &mut out[i])` for every `i`, in tasks of at least [`MIN_PARTICLES_PER_TASK`] entries
+/// on the [`crate::team`].
 #[inline]
 pub fn gather<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
-    if worth_splitting(out.len()) {
-        out.par_iter_mut()
-            .with_min_len(MIN_PARTICLES_PER_TASK)
-            .enumerate()
-            .for_each(|(i, o)| f(i, o));
-    } else {
+    let n = out.len();
+    if !worth_splitting(n) {
         out.iter_mut().enumerate().for_each(|(i, o)| f(i, o));
+        return;
+    }
+    let tasks = task_count(n);
+    let out = SharedMut::new(out);
+    crate::team::run_tasks(tasks, &|k| {
+        let rows = k * n / tasks..(k + 1) * n / tasks;
+        let start = rows.start;
+        // SAFETY: the tasks' ranges are disjoint and within `out`.
+        let part = unsafe { out.slice(rows) };
+        part.iter_mut()
+            .enumerate()
+            .for_each(|(i, o)| f(start + i, o));
+    });
+}
+
+/// `f(i, &mut a[i], &mut b[i])` for every `i`: [`gather`] into two arrays at once.
+///
+/// # Panics
+/// If `a.len() != b.len()`.
+#[inline]
+pub fn gather2<A: Send, B: Send>(
+    a: &mut [A],
+    b: &mut [B],
+    f: impl Fn(usize, &mut A, &mut B) + Sync + Send,
+) {
+    assert_eq!(a.len(), b.len(), "gather2 lengths");
+    let n = a.len();
+    if !worth_splitting(n) {
+        for (i, (a, b)) in a.iter_mut().zip(b.iter_mut()).enumerate() {
+            f(i, a, b);
+        }
+        return;
+    }
+    let tasks = task_count(n);
+    let (a, b) = (SharedMut::new(a), SharedMut::new(b));
+    crate::team::run_tasks(tasks, &|k| {
+        let rows = k * n / tasks..(k + 1) * n / tasks;
+        let start = rows.start;
+        // SAFETY: the tasks' ranges are disjoint and within both arrays.
+        let (pa, pb) = unsafe { (a.slice(rows.clone()), b.slice(rows)) };
+        for (i, (a, b)) in pa.iter_mut().zip(pb.iter_mut()).enumerate() {
+            f(start + i, a, b);
+        }
+    });
+}
+
+/// The largest `f(i)` over `0..n` (`init` when `n == 0`), on the [`crate::team`]. Exact in any
+/// order, hence the same for every thread count, as long as `f` returns no NaN.
+pub fn max_over(n: usize, init: f64, f: impl Fn(usize) -> f64 + Sync + Send) -> f64 {
+    if !worth_splitting(n) {
+        return (0..n).map(f).fold(init, f64::max);
+    }
+    let tasks = task_count(n);
+    let best = std::sync::atomic::AtomicU64::new(init.to_bits());
+    crate::team::run_tasks(tasks, &|k| {
+        let m = (k * n / tasks..(k + 1) * n / tasks)
+            .map(&f)
+            .fold(init, f64::max);
+        let mut cur = best.load(std::sync::atomic::Ordering::Relaxed);
+        while m > f64::from_bits(cur) {
+            match best.compare_exchange_weak(
+                cur,
+                m.to_bits(),
+                std::sync::atomic::Ordering::Relaxed,
+                std::sync::atomic::Ordering::Relaxed,
+            ) {
+                Ok(_) => break,
+                Err(c) => cur = c,
+            }
+        }
+    });
+    f64::from_bits(best.into_inner())
+}
+
+/// The smallest `i < n` with `pred(i)`, on the [`crate::team`] (the same for every thread count).
+pub fn first_index(n: usize, pred: impl Fn(usize) -> bool + Sync + Send) -> Option<usize> {
+    if !worth_splitting(n) {
+        return (0..n).find(|&i| pred(i));
+    }
+    let tasks = task_count(n);
+    let first = std::sync::atomic::AtomicUsize::new(usize::MAX);
+    crate::team::run_tasks(tasks, &|k| {
+        if let Some(i) = (k * n / tasks..(k + 1) * n / tasks).find(|&i| pred(i)) {
+            first.fetch_min(i, std::sync::atomic::Ordering::Relaxed);
+        }
+    });
+    Some(first.into_inner()).filter(|&i| i != usize::MAX)
+}
+
+/// How many equal tasks a loop over `n` particles (`n` ≥ 2 × [`MIN_PARTICLES_PER_TASK`]) is cut
+/// into: a multiple of the thread count, each of at least [`MIN_PARTICLES_PER_TASK`] particles.
+/// On the 1,612-particle plate with two threads that is one task per thread (three tasks of
+/// 537 left one thread with two: 4 % slower).
+fn task_count(n: usize) -> usize {
+    let threads = rayon::current_num_threads().max(1);
+    let rounds = (n / (MIN_PARTICLES_PER_TASK * threads)).max(1);
+    (rounds * threads).min(n / MIN_PARTICLES_PER_TASK)
+}
+
+/// `[f(0), …, f(tasks − 1)]`, one task each on the [`crate::team`] (for work already cut into
+/// blocks, e.g. the neighbour search's blocks of rows). The result is in task order.
+pub fn map_tasks<R: Send>(tasks: usize, f: impl Fn(usize) -> R + Sync + Send) -> Vec<R> {
+    let mut out: Vec<Option<R>> = (0..tasks).map(|_| None).collect();
+    let slots = SharedMut::new(&mut out);
+    crate::team::run_tasks(tasks, &|k| {
+        // SAFETY: task `k` alone writes slot `k`.
+        let slot = unsafe { slots.slice(k..k + 1) };
+        slot[0] = Some(f(k));
+    });
+    out.into_iter()
+        .map(|r| r.expect("every task ran"))
+        .collect()
+}
+
+/// A slice shared by the tasks of one loop, each of which takes a disjoint part.
+struct SharedMut<T> {
+    ptr: *mut T,
+    len: usize,
+}
+
+// SAFETY: only disjoint parts are handed out (callers' contract of `slice`), each to one task.
+unsafe impl<T: Send> Sync for SharedMut<T> {}
+
+impl<T> SharedMut<T> {
+    fn new(s: &mut [T]) -> Self {
+        Self {
+            ptr: s.as_mut_ptr(),
+            len: s.len(),
+        }
+    }
+
+    /// # Safety
+    /// `r` within the slice, and no two live parts overlap.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn slice(&self, r: std::ops::Range<usize>) -> &mut [T] {
+        assert!(r.start <= r.end && r.end <= self.len);
+        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(r.start), r.end - r.start) }
     }
 }
 
@@ -74,7 +208,7 @@ pub fn gather_blocks<T: Send>(
         return;
     }
     assert_eq!(out.len(), offsets[n] - offsets[0], "pair buffer length");
-    split_blocks(offsets, 0, n, out, f);
+    split_blocks(offsets, out, f);
 }
 
 /// The first particle of the block of [`gather_blocks`] over `n` particles that holds particle
@@ -92,24 +226,42 @@ pub fn block_of(n: usize, i: usize) -> usize {
     start
 }
 
+/// The blocks of [`gather_blocks`] as tasks of the team: the halving tree is walked to the depth
+/// of its largest leaf, and task `k` follows the bits of `k` down it; a leaf reached above
+/// that depth belongs to the task whose remaining bits are zero.
 fn split_blocks<T: Send>(
     offsets: &[usize],
-    start: usize,
-    end: usize,
     out: &mut [T],
     f: &(impl Fn(std::ops::Range<usize>, &mut [T]) + Sync),
 ) {
-    if !worth_splitting(end - start) {
-        f(start..end, out);
-        return;
+    let n = offsets.len() - 1;
+    let mut depth = 0;
+    while worth_splitting(n.div_ceil(1 << depth)) {
+        depth += 1;
     }
-    // The same halving as `block_of`.
-    let mid = start + (end - start) / 2;
-    let (left, right) = out.split_at_mut(offsets[mid] - offsets[start]);
-    rayon::join(
-        || split_blocks(offsets, start, mid, left, f),
-        || split_blocks(offsets, mid, end, right, f),
-    );
+    let base = offsets[0];
+    let out = SharedMut::new(out);
+    crate::team::run_tasks(1 << depth, &|k| {
+        let (mut start, mut end) = (0, n);
+        for bit in (0..depth).rev() {
+            if !worth_splitting(end - start) {
+                if k & ((1 << (bit + 1)) - 1) != 0 {
+                    return;
+                }
+                break;
+            }
+            // The same halving as `block_of`.
+            let mid = start + (end - start) / 2;
+            if (k >> bit) & 1 == 0 {
+                end = mid;
+            } else {
+                start = mid;
+            }
+        }
+        // SAFETY: the leaves of the tree are disjoint row ranges, each run by one task.
+        let block = unsafe { out.slice(offsets[start] - base..offsets[end] - base) };
+        f(start..end, block);
+    });
 }
 
 #[cfg(test)]

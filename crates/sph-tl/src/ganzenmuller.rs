@@ -8,8 +8,7 @@
 //! motion; it costs the tuning parameter α, which the TL paper criticises.
 
 use crate::reference_pairs::PairRows;
-use rayon::prelude::*;
-use sph_core::parallel::MIN_PARTICLES_PER_TASK;
+use sph_core::parallel::gather;
 use sph_core::Dim;
 
 /// Default α = 0.1 (published values span 0.01–0.3; LAMMPS's `hg` is 2α).
@@ -27,21 +26,18 @@ pub fn add_penalty_acceleration<D: Dim>(
     scale: f64,
     acc: &mut [D::Vector],
 ) {
-    acc.par_iter_mut()
-        .with_min_len(MIN_PARTICLES_PER_TASK)
-        .enumerate()
-        .for_each(|(i, a)| {
-            let (xi, x0i, fi) = (positions[i], reference[i], deformation[i]);
-            let sum = pairs.fold(i, D::zero(), move |sum, j, _, w| {
-                let xij = xi - positions[j];
-                let r = D::norm(xij);
-                if r <= 0.0 {
-                    return sum;
-                }
-                let e = xij * (1.0 / r);
-                let predicted = (fi + deformation[j]) * (x0i - reference[j]);
-                sum + e * (w * D::dot(predicted - xij * 2.0, e))
-            });
-            *a += sum * scale;
+    gather(acc, |i, a| {
+        let (xi, x0i, fi) = (positions[i], reference[i], deformation[i]);
+        let sum = pairs.fold(i, D::zero(), move |sum, j, _, w| {
+            let xij = xi - positions[j];
+            let r = D::norm(xij);
+            if r <= 0.0 {
+                return sum;
+            }
+            let e = xij * (1.0 / r);
+            let predicted = (fi + deformation[j]) * (x0i - reference[j]);
+            sum + e * (w * D::dot(predicted - xij * 2.0, e))
         });
+        *a += sum * scale;
+    });
 }

@@ -17,8 +17,7 @@
 use crate::damping::damping_kirchhoff;
 use crate::original::nan_matrix;
 use crate::reference_pairs::PairRows;
-use rayon::prelude::*;
-use sph_core::parallel::MIN_PARTICLES_PER_TASK;
+use sph_core::parallel::gather;
 use sph_core::Dim;
 use sph_materials::Material;
 
@@ -61,18 +60,14 @@ pub fn acceleration<D: Dim>(
     zeta_g_over_rho: f64,
     acc: &mut [D::Vector],
 ) {
-    acc.par_iter_mut()
-        .with_min_len(MIN_PARTICLES_PER_TASK)
-        .enumerate()
-        .for_each(|(i, a)| {
-            let (pi, xi, ji) = (remaining[i], positions[i], isochoric[i]);
-            let (div, shear) =
-                pairs.fold(i, (D::zero(), D::zero()), move |(div, shear), j, g, s| {
-                    (
-                        div + (pi + remaining[j]) * g,
-                        shear + (xi - positions[j]) * ((ji + isochoric[j]) * s),
-                    )
-                });
-            *a = div * inv_density + shear * zeta_g_over_rho;
+    gather(acc, |i, a| {
+        let (pi, xi, ji) = (remaining[i], positions[i], isochoric[i]);
+        let (div, shear) = pairs.fold(i, (D::zero(), D::zero()), move |(div, shear), j, g, s| {
+            (
+                div + (pi + remaining[j]) * g,
+                shear + (xi - positions[j]) * ((ji + isochoric[j]) * s),
+            )
         });
+        *a = div * inv_density + shear * zeta_g_over_rho;
+    });
 }

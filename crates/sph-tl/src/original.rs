@@ -5,7 +5,7 @@
 use crate::damping::damping_piola;
 use crate::reference_pairs::PairRows;
 use rayon::prelude::*;
-use sph_core::parallel::MIN_PARTICLES_PER_TASK;
+use sph_core::parallel::{gather, MIN_PARTICLES_PER_TASK};
 use sph_core::Dim;
 use sph_materials::Material;
 
@@ -40,15 +40,11 @@ pub fn stress_divergence<D: Dim>(
     inv_density: f64,
     acc: &mut [D::Vector],
 ) {
-    acc.par_iter_mut()
-        .with_min_len(MIN_PARTICLES_PER_TASK)
-        .enumerate()
-        .for_each(|(i, a)| {
-            let si = stress[i];
-            let sum =
-                pairs.fold_gradient(i, D::zero(), move |sum, j, g| sum + (si + stress[j]) * g);
-            *a = sum * inv_density;
-        });
+    gather(acc, |i, a| {
+        let si = stress[i];
+        let sum = pairs.fold_gradient(i, D::zero(), move |sum, j, g| sum + (si + stress[j]) * g);
+        *a = sum * inv_density;
+    });
 }
 
 /// Eq 22: `Ḟ_i = (Σ_j (v_j − v_i) ⊗ V_j ∇⁰_i W_ij) B_i`, written into `f_dot`.
@@ -58,17 +54,13 @@ pub fn deformation_rate<D: Dim>(
     velocities: &[D::Vector],
     f_dot: &mut [D::Matrix],
 ) {
-    f_dot
-        .par_iter_mut()
-        .with_min_len(MIN_PARTICLES_PER_TASK)
-        .enumerate()
-        .for_each(|(i, fd)| {
-            let vi = velocities[i];
-            let sum = pairs.fold_gradient(i, D::zero_matrix(), move |sum, j, g| {
-                sum + D::outer(velocities[j] - vi, g)
-            });
-            *fd = sum * correction[i];
+    gather(f_dot, |i, fd| {
+        let vi = velocities[i];
+        let sum = pairs.fold_gradient(i, D::zero_matrix(), move |sum, j, g| {
+            sum + D::outer(velocities[j] - vi, g)
         });
+        *fd = sum * correction[i];
+    });
 }
 
 /// `F_i = I + (Σ_j (u_j − u_i) ⊗ V_j ∇⁰_i W_ij) B_i` for displacements `u = x − X`: the

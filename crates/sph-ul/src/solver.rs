@@ -619,16 +619,11 @@ impl<D: Dim> UlSolver<D> {
     /// Eq. (4) for every particle.
     fn update_pressures(&mut self) {
         let (rho0, c0) = (self.rho0, self.c0);
-        // Element-wise loops are memory-bound and tiny: on this thread (no pool hand-off).
-        self.pressures
-            .iter_mut()
-            .zip(&self.densities)
-            .for_each(|(p, &rho)| *p = pressure(rho, rho0, c0));
-        self.current_volumes
-            .iter_mut()
-            .zip(&self.masses)
-            .zip(&self.densities)
-            .for_each(|((v, &m), &rho)| *v = m / rho);
+        let (rho, m) = (&self.densities, &self.masses);
+        gather_pairs(&mut self.pressures, &mut self.current_volumes, |i, p, v| {
+            *p = pressure(rho[i], rho0, c0);
+            *v = m[i] / rho[i];
+        });
     }
 
     /// Step 4 of the module docs: continuity (eq 11), the Jaumann rate of `τ` (eq 6–8, 14/26)
@@ -895,10 +890,8 @@ impl<D: Dim> UlSolver<D> {
             self.accumulate_work(dt);
         }
         // Eq 24.
-        self.velocities
-            .iter_mut()
-            .zip(&self.accelerations)
-            .for_each(|(v, &a)| *v += a * dt);
+        let acc = &self.accelerations;
+        gather(&mut self.velocities, |i, v| *v += acc[i] * dt);
         self.time += dt;
         self.constraints
             .apply_to_velocities(self.time, &mut self.velocities);
@@ -907,10 +900,8 @@ impl<D: Dim> UlSolver<D> {
         self.drift(half);
         // Eq 20: accumulate A_s (never reset); used by the next step.
         if !self.accumulated.is_empty() {
-            self.accumulated
-                .iter_mut()
-                .zip(&self.rates)
-                .for_each(|(a, r)| *a += r.shear * dt);
+            let rates = &self.rates;
+            gather(&mut self.accumulated, |i, a| *a += rates[i].shear * dt);
         }
         self.max_speed = max_norm::<D>(&self.velocities, &self.free);
         self.acoustic_steps += 1;
@@ -958,8 +949,8 @@ impl<D: Dim> UlSolver<D> {
         self.work.loads += loads;
     }
 
-    /// `x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt` (eq 23 and 25).
-    /// Element-wise, on this thread: the pool hand-off costs more than these loops.
+    /// `x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt` (eq 23 and 25), element-wise on the team
+    /// (a hand-off to its spinning helper costs less than these loops).
     fn drift(&mut self, h: f64) {
         if self.params.energy_budget && self.params.riemann == RiemannScheme::Paper {
             // The volumetric-energy change the pressure jump makes over this drift
@@ -973,18 +964,15 @@ impl<D: Dim> UlSolver<D> {
                 .map(|((&rho, &m), r)| m * pressure(rho, rho0, c0) / (rho * rho) * r.density_jump)
                 .sum::<f64>();
         }
-        self.positions
-            .iter_mut()
-            .zip(&self.velocities)
-            .for_each(|(x, &v)| *x += v * h);
-        self.densities
-            .iter_mut()
-            .zip(&self.rates)
-            .for_each(|(rho, r)| *rho += r.density * h);
-        self.stress
-            .iter_mut()
-            .zip(&self.rates)
-            .for_each(|(t, r)| *t += r.stress * h);
+        let (v, rates) = (&self.velocities, &self.rates);
+        gather_pairs(&mut self.positions, &mut self.densities, |i, x, rho| {
+            *x += v[i] * h;
+            *rho += rates[i].density * h;
+        });
+        // Empty when ENOG's output-only stress is not integrated.
+        if !self.stress.is_empty() {
+            gather(&mut self.stress, |i, t| *t += rates[i].stress * h);
+        }
     }
 
     fn record_if_due(&mut self) {
@@ -1276,26 +1264,7 @@ pub const PARALLEL_THRESHOLD: usize = sph_core::parallel::MIN_PARTICLES_PER_TASK
 
 pub(crate) use sph_core::parallel::gather;
 
-/// [`gather`] writing two arrays: `f(i, &mut a[i], &mut b[i])`, by the same rule.
-#[inline]
-fn gather_pairs<T: Send, U: Send>(
-    a: &mut [T],
-    b: &mut [U],
-    f: impl Fn(usize, &mut T, &mut U) + Sync + Send,
-) {
-    if sph_core::parallel::worth_splitting(a.len()) {
-        a.par_iter_mut()
-            .zip(b.par_iter_mut())
-            .with_min_len(PARALLEL_THRESHOLD)
-            .enumerate()
-            .for_each(|(i, (x, y))| f(i, x, y));
-    } else {
-        a.iter_mut()
-            .zip(b.iter_mut())
-            .enumerate()
-            .for_each(|(i, (x, y))| f(i, x, y));
-    }
-}
+use sph_core::parallel::gather2 as gather_pairs;
 
 /// Checks a per-particle array: length `n` (or empty if `optional`), every entry finite and > 0.
 fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Result<(), Error> {
