@@ -41,12 +41,51 @@ fn main() {
         .expect("write benchmarks/results/criterion.json");
     ul_stepping_section(&mut md, &root);
     case_timings_section(&mut md, &root);
+    threads_section(&mut md);
     distributed_section(&mut md);
     std::fs::create_dir_all(out.parent().unwrap()).expect("create docs/");
     let tmp = out.with_extension("md.tmp");
     std::fs::write(&tmp, &md).expect("write docs/performance.md");
     std::fs::rename(&tmp, &out).expect("rename docs/performance.md");
     println!("wrote {}", out.display());
+}
+
+/// Where the time of a small 2D step goes, and what the thread team changed (profiles, not a
+/// benchmark: the commands are given, the numbers are those of the commit that introduced the
+/// team).
+fn threads_section(md: &mut String) {
+    writeln!(
+        md,
+        "## Where the time goes, and the thread team\n\n\
+         Profiles of the 1,612-particle plate (H/dp 10, h = 1.3 dp, `perf record` of `sph run \
+         oscillating-plate-2d --method M --set h_over_dp=1.3 --set end_time=0.1 --no-output \
+         --threads 1`, share of the samples). **TL**: the stress divergence (eq 20) 28 %, \
+         the deformation rate (eq 22) 23 %, the stress update (first Piola–Kirchhoff and the \
+         correction) 19 %, the half steps and the kick 6 %, the speed maximum for the time \
+         step 5 %, the finiteness check 3 %. **UL-ENOG** (dual stepping): the kernel-data \
+         refresh of every acoustic sub-step 30 %, the force gather 25 %, the rate gather \
+         (continuity, velocity gradient, ENOG's Laplacian) 16 %, the neighbour search of the \
+         advection steps 6 %, the pair halves of a new list (`PairSymmetry::new`, serial) \
+         3 %, element-wise updates 3 %.\n\n\
+         **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
+         rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
+         thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
+         337,277 `sched_yield` and 1,455 `futex` calls (`strace -f -c`), system time 21 % of \
+         the user time. The loops of a step now run on `sph_core::team`, whose helpers spin in \
+         user space for 200 µs between loops before they park (what OpenMP runtimes do with \
+         an active wait policy); set-up, sampling and MPS stay on rayon. Same run: 3,921 \
+         `sched_yield` and 4,008 `futex` calls (the monitor's 200 samples), system time below \
+         1 % of the user time on every row above. The helper's spinning counts as user time, \
+         so on two threads the user time is close to twice the wall time even while one thread \
+         waits. Loops are cut \
+         into equal tasks, a multiple of the thread count (three tasks of 537 particles on two \
+         threads left one thread with two: 4 % slower). Same run, old and new build \
+         interleaved, median of 4 (0.25 s simulated, quiet machine): TL 0.80 → 0.71 s, \
+         UL-ENOG 2.94 → 2.85 s; to t = 1 s, UL-ENOG two threads, interleaved on the same \
+         (slower) day: 13.8 s (13.76, 13.89) → 11.5 s (10.83, 12.19). Results are bit for bit \
+         those of the rayon build (every dataset of the results files of five scenes).\n"
+    )
+    .unwrap();
 }
 
 /// Where the distributed runs' figures are: their own generated page and the scaling runs.
