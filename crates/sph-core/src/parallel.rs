@@ -143,6 +143,21 @@ pub fn map_tasks<R: Send>(tasks: usize, f: impl Fn(usize) -> R + Sync + Send) ->
         .collect()
 }
 
+/// `fold(rows)` for consecutive ranges of rows covering `0..n`, in order: one range on the
+/// calling thread below the splitting size, else one per task of the [`crate::team`]. For
+/// reductions: combine the results in order and the sum is the same for a given thread count;
+/// exact ones (max, min) are the same for every thread count.
+pub fn fold_chunks<R: Send>(
+    n: usize,
+    fold: impl Fn(std::ops::Range<usize>) -> R + Sync + Send,
+) -> Vec<R> {
+    if !worth_splitting(n) {
+        return vec![fold(0..n)];
+    }
+    let tasks = task_count(n);
+    map_tasks(tasks, |k| fold(k * n / tasks..(k + 1) * n / tasks))
+}
+
 /// A slice shared by the tasks of one loop, each of which takes a disjoint part.
 struct SharedMut<T> {
     ptr: *mut T,
@@ -309,6 +324,44 @@ mod tests {
             let mut out = vec![0usize; n];
             gather(&mut out, |i, o| *o = 3 * i + 1);
             assert!(out.iter().enumerate().all(|(i, &o)| o == 3 * i + 1));
+        }
+    }
+
+    fn in_pool<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(f)
+    }
+
+    #[test]
+    fn reductions_and_maps_are_the_same_on_every_thread_count() {
+        for n in [0usize, 3, 1023, 1024, 5000, 70_001] {
+            let v: Vec<f64> = (0..n).map(|i| ((i * 7919) % 1013) as f64 - 500.0).collect();
+            let serial_max = v.iter().copied().fold(-1e300, f64::max);
+            let serial_first = v.iter().position(|&x| x > 505.0);
+            for threads in 1..=3 {
+                in_pool(threads, || {
+                    assert_eq!(max_over(n, -1e300, |i| v[i]), serial_max);
+                    assert_eq!(first_index(n, |i| v[i] > 505.0), serial_first);
+                    let chunks = fold_chunks(n, |r| r.clone());
+                    let mut next = 0;
+                    for r in &chunks {
+                        assert_eq!(r.start, next);
+                        next = r.end;
+                    }
+                    assert_eq!(next, n);
+                    assert_eq!(map_tasks(7, |k| k * k), vec![0, 1, 4, 9, 16, 25, 36]);
+                    let (mut a, mut b) = (vec![0usize; n], vec![0.0; n]);
+                    gather2(&mut a, &mut b, |i, a, b| {
+                        *a = 2 * i;
+                        *b = v[i];
+                    });
+                    assert!(a.iter().enumerate().all(|(i, &x)| x == 2 * i));
+                    assert_eq!(b, v);
+                });
+            }
         }
     }
 }

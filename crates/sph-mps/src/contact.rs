@@ -14,8 +14,8 @@
 //! reported with the strain energy). Contact pairs are found every step from the current
 //! positions with the core's cell list; a scene without contact never searches.
 
-use rayon::prelude::*;
 use sph_core::neighbor::CellGrid;
+use sph_core::parallel::gather2;
 use sph_core::{Dim, Error};
 
 /// Contact between the bodies of one solver.
@@ -75,31 +75,27 @@ impl ResolvedContact {
         let grid = CellGrid::<D>::build(positions, self.distance)?;
         let (rc, k) = (self.distance, self.stiffness);
         let body = &self.body_of;
-        let energy: f64 = forces
-            .par_iter_mut()
-            .enumerate()
-            .map(|(i, f)| {
-                let xi = positions[i];
-                let mut sum = D::zero();
-                let mut e = 0.0;
-                // Gather over the candidates in the order the grid gives them (deterministic).
-                grid.for_each_candidate_at(xi, |j, xj| {
-                    if body[j as usize] == body[i] {
-                        return;
-                    }
-                    let d = xi - xj;
-                    let r = D::norm(d);
-                    if r < rc && r > 0.0 {
-                        sum += d * (k * (rc - r) / r);
-                        e += 0.25 * k * (rc - r) * (rc - r);
-                    }
-                });
-                *f += sum;
-                e
-            })
-            .collect::<Vec<f64>>()
-            .iter()
-            .sum();
-        Ok(energy)
+        // Per-particle energies summed in index order: the same for every thread count.
+        let mut energies = vec![0.0; positions.len()];
+        gather2(forces, &mut energies, |i, f, energy| {
+            let xi = positions[i];
+            let mut sum = D::zero();
+            let mut e = 0.0;
+            // Gather over the candidates in the order the grid gives them (deterministic).
+            grid.for_each_candidate_at(xi, |j, xj| {
+                if body[j as usize] == body[i] {
+                    return;
+                }
+                let d = xi - xj;
+                let r = D::norm(d);
+                if r < rc && r > 0.0 {
+                    sum += d * (k * (rc - r) / r);
+                    e += 0.25 * k * (rc - r) * (rc - r);
+                }
+            });
+            *f += sum;
+            *energy = e;
+        });
+        Ok(energies.iter().sum())
     }
 }

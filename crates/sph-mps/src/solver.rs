@@ -14,7 +14,6 @@ use sph_core::disorder::{disorder_indicator, ReferenceWeights};
 use sph_core::distributed::OverRanks;
 use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
-use sph_core::parallel::MIN_PARTICLES_PER_TASK;
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
@@ -538,12 +537,13 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// would allow (the blow-up guard of `step`; NaN if a speed or acceleration is NaN).
     fn state_dt(&self) -> f64 {
         let max = |v: &[D::Vector]| {
-            let local = v
-                .par_iter()
-                .with_min_len(MIN_PARTICLES_PER_TASK)
-                .map(|&x| D::norm_squared(x))
-                .reduce(|| 0.0, diagnostics::max_or_nan)
-                .sqrt();
+            let local = sph_core::parallel::fold_chunks(v.len(), |rows| {
+                rows.map(|i| D::norm_squared(v[i]))
+                    .fold(0.0, diagnostics::max_or_nan)
+            })
+            .into_iter()
+            .fold(0.0, diagnostics::max_or_nan)
+            .sqrt();
             self.domain.max_or_nan_over_ranks(local)
         };
         let (speed, accel) = (max(&self.velocities), max(&self.accelerations));

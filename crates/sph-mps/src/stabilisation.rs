@@ -26,7 +26,7 @@
 //! (`r_ij → R r_ij`), so angular momentum is conserved; and the force is `−∂U_s/∂x` exactly
 //! (tests by finite differences), so the symplectic integrator keeps the energy as before.
 
-use rayon::prelude::*;
+use sph_core::parallel::{gather, gather2};
 use sph_core::{Dim, Error, NeighborList};
 
 /// The stabilisation's per-pair and per-particle constants (reference configuration).
@@ -109,7 +109,7 @@ impl<D: Dim> Stabilisation<D> {
         deformation: &[D::Matrix],
         forces: &mut [D::Vector],
     ) {
-        let kernel = |(i, out): (usize, &mut D::Vector)| {
+        gather(forces, |i, out| {
             let (si, fi, xi) = (self.scale[i], deformation[i], x[i]);
             let mut f = D::zero();
             for (k, &j) in list.range(i).zip(list.neighbors(i)) {
@@ -121,12 +121,7 @@ impl<D: Dim> Stabilisation<D> {
                 f += (r_ij * si - r_ji * self.scale[j]) * self.pair[k];
             }
             *out += f;
-        };
-        if crate::wls::parallel(forces.len()) {
-            forces.par_iter_mut().enumerate().for_each(kernel);
-        } else {
-            forces.iter_mut().enumerate().for_each(kernel);
-        }
+        });
     }
 
     /// The energy of every particle, `½ s_i Σ_j k_ij |r_ij|²` (diagnostics).
@@ -159,16 +154,13 @@ impl<D: Dim> Stabilisation<D> {
         deformation: &[D::Matrix],
         stress_term: &mut [D::Matrix],
     ) -> f64 {
-        let kernel = |(i, g): (usize, &mut D::Matrix)| {
-            let (t, e) = self.particle_terms(i, list, x, deformation[i]);
+        // Per-particle energies summed in index order: the same for every thread count.
+        let mut energy = vec![0.0; x.len()];
+        gather2(stress_term, &mut energy, |i, g, e| {
+            let (t, ei) = self.particle_terms(i, list, x, deformation[i]);
             *g += t;
-            e
-        };
-        if crate::wls::parallel(x.len()) {
-            let e: Vec<f64> = stress_term.par_iter_mut().enumerate().map(kernel).collect();
-            e.iter().sum()
-        } else {
-            stress_term.iter_mut().enumerate().map(kernel).sum()
-        }
+            *e = ei;
+        });
+        energy.iter().sum()
     }
 }

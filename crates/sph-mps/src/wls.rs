@@ -27,9 +27,9 @@
 //! toward `j`. A guarded fit (see [`moment_inverse`]) still has fixed `g_ij`, so the force stays
 //! the exact gradient of `U` for every particle, guarded or not.
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::guarded_inverse;
+use sph_core::parallel::{gather, gather2};
 use sph_core::{Dim, NeighborList};
 use sph_materials::Material;
 
@@ -239,30 +239,17 @@ pub fn deformation_and_stress<D: Dim, M: Material<D>>(
     deformation: &mut [D::Matrix],
     stress_term: &mut [D::Matrix],
 ) {
-    let kernel = |(i, (f, t)): (usize, (&mut D::Matrix, &mut D::Matrix))| {
+    gather2(deformation, stress_term, |i, f, t| {
         *f = deformation_gradient::<D>(x[i], list.neighbors(i), &g[list.range(i)], x);
         *t = material.first_piola_kirchhoff(*f) * volumes[i];
-    };
-    if parallel(x.len()) {
-        deformation
-            .par_iter_mut()
-            .zip(stress_term.par_iter_mut())
-            .enumerate()
-            .for_each(kernel);
-    } else {
-        deformation
-            .iter_mut()
-            .zip(stress_term.iter_mut())
-            .enumerate()
-            .for_each(kernel);
-    }
+    });
 }
 
 /// Loops over fewer particles than twice this run on the calling thread (one threshold for
 /// every method: [`sph_core::parallel`]).
 pub const PARALLEL_THRESHOLD: usize = sph_core::parallel::MIN_PARTICLES_PER_TASK;
 
-/// Whether loops over `n` particles go to the rayon pool ([`sph_core::parallel::worth_splitting`]).
+/// Whether loops over `n` particles are split over threads ([`sph_core::parallel::worth_splitting`]).
 #[inline]
 pub fn parallel(n: usize) -> bool {
     sph_core::parallel::worth_splitting(n)
@@ -278,7 +265,7 @@ pub fn internal_forces<D: Dim>(
     stress_term: &[D::Matrix],
     forces: &mut [D::Vector],
 ) {
-    let kernel = |(i, out): (usize, &mut D::Vector)| {
+    gather(forces, |i, out| {
         let ti = stress_term[i];
         let mut f = D::zero();
         let r = list.range(i);
@@ -286,12 +273,7 @@ pub fn internal_forces<D: Dim>(
             f += ti * gij - stress_term[j as usize] * gji;
         }
         *out = f;
-    };
-    if parallel(forces.len()) {
-        forces.par_iter_mut().enumerate().for_each(kernel);
-    } else {
-        forces.iter_mut().enumerate().for_each(kernel);
-    }
+    });
 }
 
 /// For every pair `k = (i, j)` of the (symmetric) list, the index of the reverse pair `(j, i)`.
