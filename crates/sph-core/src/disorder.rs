@@ -12,7 +12,6 @@ use crate::dim::Dim;
 use crate::kernel::{Kernel, WendlandC2};
 use crate::neighbor::NeighborList;
 use crate::pairs::PairKernel;
-use rayon::prelude::*;
 
 /// The reference weights `W⁰_ij` and distances `|X_ij|` of the indicator and of
 /// [`affine_fit`]: the stored kernel data of the list's pairs, or the kernel evaluated at each
@@ -52,27 +51,27 @@ pub fn disorder_indicator<D: Dim>(
     current: &[D::Vector],
     deformation: &[D::Matrix],
 ) -> Vec<f64> {
-    (0..list.len())
-        .into_par_iter()
-        .map(|i| {
-            let f = deformation[i];
-            let mut num = 0.0;
-            let mut den = 0.0;
-            for (k, &j) in list.range(i).zip(list.neighbors(i)) {
-                let j = j as usize;
-                let xij0 = reference[i] - reference[j];
-                let xij = current[i] - current[j];
-                let (w, r) = weights.at(k, xij0);
-                num += w * D::norm(f * xij0 - xij);
-                den += w * r;
-            }
-            if den > 0.0 {
-                num / den
-            } else {
-                0.0
-            }
-        })
-        .collect()
+    let disorder_of = |i: usize| {
+        let f = deformation[i];
+        let mut num = 0.0;
+        let mut den = 0.0;
+        for (k, &j) in list.range(i).zip(list.neighbors(i)) {
+            let j = j as usize;
+            let xij0 = reference[i] - reference[j];
+            let xij = current[i] - current[j];
+            let (w, r) = weights.at(k, xij0);
+            num += w * D::norm(f * xij0 - xij);
+            den += w * r;
+        }
+        if den > 0.0 {
+            num / den
+        } else {
+            0.0
+        }
+    };
+    let mut out = vec![0.0; list.len()];
+    crate::parallel::gather(&mut out, |i, e| *e = disorder_of(i));
+    out
 }
 
 /// Weighted least-squares deformation gradient mapping the reference neighbourhood onto the
@@ -84,32 +83,32 @@ pub fn affine_fit<D: Dim>(
     reference: &[D::Vector],
     current: &[D::Vector],
 ) -> Vec<D::Matrix> {
-    (0..list.len())
-        .into_par_iter()
-        .map(|i| {
-            let mut a = D::zero_matrix();
-            let mut b = D::zero_matrix();
-            let mut wsum = 0.0;
-            let mut r2sum = 0.0;
-            for (k, &j) in list.range(i).zip(list.neighbors(i)) {
-                let j = j as usize;
-                let xij0 = reference[i] - reference[j];
-                let xij = current[i] - current[j];
-                let (w, r) = weights.at(k, xij0);
-                a += D::outer(xij0 * w, xij0);
-                b += D::outer(xij * w, xij0);
-                wsum += w;
-                r2sum += w * r * r;
-            }
-            if wsum <= 0.0 || r2sum <= 0.0 {
-                return D::identity();
-            }
-            // Normalise A by its mean squared distance so the guard threshold is scale free.
-            let scale = D::D as f64 / r2sum;
-            let (inv, _) = guarded_inverse::<D>(a * scale, DEFAULT_MIN_EIGENVALUE);
-            b * inv * scale
-        })
-        .collect()
+    let fit_of = |i: usize| {
+        let mut a = D::zero_matrix();
+        let mut b = D::zero_matrix();
+        let mut wsum = 0.0;
+        let mut r2sum = 0.0;
+        for (k, &j) in list.range(i).zip(list.neighbors(i)) {
+            let j = j as usize;
+            let xij0 = reference[i] - reference[j];
+            let xij = current[i] - current[j];
+            let (w, r) = weights.at(k, xij0);
+            a += D::outer(xij0 * w, xij0);
+            b += D::outer(xij * w, xij0);
+            wsum += w;
+            r2sum += w * r * r;
+        }
+        if wsum <= 0.0 || r2sum <= 0.0 {
+            return D::identity();
+        }
+        // Normalise A by its mean squared distance so the guard threshold is scale free.
+        let scale = D::D as f64 / r2sum;
+        let (inv, _) = guarded_inverse::<D>(a * scale, DEFAULT_MIN_EIGENVALUE);
+        b * inv * scale
+    };
+    let mut out = vec![D::identity(); list.len()];
+    crate::parallel::gather(&mut out, |i, fit| *fit = fit_of(i));
+    out
 }
 
 /// Summary statistics of a per-particle indicator.
