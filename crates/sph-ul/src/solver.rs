@@ -1286,14 +1286,15 @@ fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Resul
     Ok(())
 }
 
-/// Largest `|v|` over the particles marked free.
 /// Largest `|v|` over the free particles; NaN if any is NaN (so the time-step guard sees it).
 fn max_norm<D: Dim>(v: &[D::Vector], free: &[bool]) -> f64 {
-    v.iter()
-        .zip(free)
-        .map(|(&x, &f)| if f { D::norm_squared(x) } else { 0.0 })
-        .fold(0.0, diagnostics::max_or_nan)
-        .sqrt()
+    let norm2 = |i: usize| if free[i] { D::norm_squared(v[i]) } else { 0.0 };
+    sph_core::parallel::fold_chunks(v.len(), |rows| {
+        rows.map(norm2).fold(0.0, diagnostics::max_or_nan)
+    })
+    .into_iter()
+    .fold(0.0, diagnostics::max_or_nan)
+    .sqrt()
 }
 
 impl<D: Dim> Solver<D> for UlSolver<D> {
