@@ -561,7 +561,10 @@ pub fn report(root: &Path) -> Result<(), String> {
          hand. Every run is the `sph` command shown in its table row, made with `--threads {} \
          --no-output`. **Cost** is counted two ways: CPU seconds (user + system) of that process on \
          the machine that made the run (2 cores; timings taken while other work ran on the \
-         machine are noisier, CPU time less so than wall time), and the machine-independent \
+         machine are noisier, CPU time less so than wall time; since the loops of a step run on \
+         `sph_core::team`, whose helper waits actively between loops, a run's CPU time also \
+         counts that wait, so runs made before and after it compare by wall time and work, \
+         not CPU time), and the machine-independent \
          work `pair_visits` (neighbour pairs visited by all force evaluations: steps × pairs for \
          TL and MPS, acoustic sub-steps × pairs for UL). Peak memory is the process's largest \
          resident set.\n",

@@ -36,13 +36,21 @@ struct Region {
     helpers: usize,
 }
 
+/// Most contiguous shares a loop is cut into (participants beyond this only help).
+const SHARES: usize = 64;
+
+/// A cursor on its own cache line (the participants update different cursors).
+#[repr(align(128))]
+struct Padded(AtomicUsize);
+
 struct Team {
     /// Even: a loop is open (or none since the last one); odd: the leader is writing `region`.
     epoch: AtomicUsize,
     /// Written by the leader only while `epoch` is odd and no helper is `active`.
     region: UnsafeCell<Region>,
-    /// Next task to claim.
-    next: AtomicUsize,
+    /// Claim cursors: the tasks are cut into one contiguous share per participant (at most
+    /// [`SHARES`]); cursor `q` counts the claimed tasks of share `q`.
+    cursors: [Padded; SHARES],
     /// Tasks not yet finished.
     pending: AtomicUsize,
     /// Helpers that may be reading `region`.
@@ -80,7 +88,7 @@ fn team() -> &'static Team {
             tasks: 0,
             helpers: 0,
         }),
-        next: AtomicUsize::new(0),
+        cursors: std::array::from_fn(|_| Padded(AtomicUsize::new(0))),
         pending: AtomicUsize::new(0),
         active: AtomicUsize::new(0),
         panicked: AtomicBool::new(false),
@@ -143,7 +151,9 @@ pub fn run_tasks(tasks: usize, task: &(dyn Fn(usize) + Sync)) {
             helpers,
         }
     };
-    team.next.store(0, Relaxed);
+    for c in &team.cursors[..shares(helpers)] {
+        c.0.store(0, Relaxed);
+    }
     team.pending.store(tasks, Relaxed);
     team.panicked.store(false, Relaxed);
     team.epoch.store(e + 2, SeqCst);
@@ -151,7 +161,7 @@ pub fn run_tasks(tasks: usize, task: &(dyn Fn(usize) + Sync)) {
         let _g = team.parked.lock().unwrap_or_else(|p| p.into_inner());
         team.wake.notify_all();
     }
-    let mine = catch_unwind(AssertUnwindSafe(|| team.claim(tasks, task)));
+    let mine = catch_unwind(AssertUnwindSafe(|| team.claim(0, helpers, tasks, task)));
     // The task must outlive every call of it.
     spins = 0;
     while team.pending.load(Acquire) != 0 {
@@ -166,6 +176,11 @@ pub fn run_tasks(tasks: usize, task: &(dyn Fn(usize) + Sync)) {
     }
 }
 
+/// How many contiguous shares a loop with `helpers` helpers is cut into.
+fn shares(helpers: usize) -> usize {
+    (helpers + 1).min(SHARES)
+}
+
 /// Spin, then yield the core now and then (a helper may have been descheduled mid-task).
 fn backoff(spins: &mut u32) {
     *spins += 1;
@@ -177,18 +192,27 @@ fn backoff(spins: &mut u32) {
 }
 
 impl Team {
-    /// Claims and runs tasks until none is left.
-    fn claim(&self, tasks: usize, task: &(dyn Fn(usize) + Sync)) {
-        loop {
-            let k = self.next.fetch_add(1, Relaxed);
-            if k >= tasks {
-                return;
+    /// Claims and runs tasks until none is left: first those of participant `p`'s own share
+    /// (the leader is 0, helper `id` is `id + 1`), then what is left of the others', in
+    /// order. The same participant gets the same rows in every loop of a step, so each thread
+    /// keeps working on the particles its cache holds (claiming any free task instead was
+    /// about 5 % slower on the 6,100-particle twisting column with two threads: TL-HF 3.52
+    /// against 3.32 s, TL-GM 6.36 against 6.04 s to t = 0.1 s, median of 3 interleaved).
+    fn claim(&self, p: usize, helpers: usize, tasks: usize, task: &(dyn Fn(usize) + Sync)) {
+        let parts = shares(helpers);
+        for q in (0..parts).map(|q| (p + q) % parts) {
+            let (lo, hi) = (q * tasks / parts, (q + 1) * tasks / parts);
+            loop {
+                let k = lo + self.cursors[q].0.fetch_add(1, Relaxed);
+                if k >= hi {
+                    break;
+                }
+                let done = catch_unwind(AssertUnwindSafe(|| task(k)));
+                if done.is_err() {
+                    self.panicked.store(true, Release);
+                }
+                self.pending.fetch_sub(1, AcqRel);
             }
-            let done = catch_unwind(AssertUnwindSafe(|| task(k)));
-            if done.is_err() {
-                self.panicked.store(true, Release);
-            }
-            self.pending.fetch_sub(1, AcqRel);
         }
     }
 
@@ -223,7 +247,7 @@ impl Team {
                 if let (Some(task), true) = (r.task, id < r.helpers) {
                     // SAFETY: the leader keeps the task alive while tasks are pending, and a
                     // task is called only after claiming an index below `tasks`.
-                    self.claim(r.tasks, unsafe { &*task });
+                    self.claim(id + 1, r.helpers, r.tasks, unsafe { &*task });
                 }
             }
             self.active.fetch_sub(1, SeqCst);
@@ -294,12 +318,14 @@ mod tests {
 
     #[test]
     fn the_helpers_take_part() {
-        // With two threads, over many loops whose tasks wait a little, some task runs off
-        // the calling thread.
+        // With two threads, over loops whose tasks wait a little, some task runs off the
+        // calling thread. Other tests lead loops at the same time (one leader at a time: the
+        // others run inline), so keep trying for a while.
         in_pool(2, || {
             let me = std::thread::current().id();
             let elsewhere = AtomicU64::new(0);
-            for _ in 0..200 {
+            let start = Instant::now();
+            while elsewhere.load(Relaxed) == 0 && start.elapsed() < Duration::from_secs(20) {
                 run_tasks(4, &|_| {
                     let t = Instant::now();
                     while t.elapsed() < Duration::from_micros(50) {
