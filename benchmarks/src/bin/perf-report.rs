@@ -73,9 +73,11 @@ fn threads_section(md: &mut String) {
          337,277 `sched_yield` and 1,455 `futex` calls (`strace -f -c`), system time 21 % of \
          the user time. The loops of a step now run on `sph_core::team`, whose helpers spin in \
          user space for 200 µs between loops before they park (what OpenMP runtimes do with \
-         an active wait policy); set-up, sampling and MPS stay on rayon. Same run: 3,921 \
-         `sched_yield` and 4,008 `futex` calls (the monitor's 200 samples), system time below \
-         1 % of the user time on every row above. The helper's spinning counts as user time, \
+         an active wait policy), and so do the monitor's samples and MPS; set-up work (reference \
+         pair data, sorted neighbour lists, MPS's WLS set-up) stays on rayon. Same run: 3,921 \
+         `sched_yield` and 4,008 `futex` calls (around the monitor's 200 samples, measured \
+         before the samples moved to the team), system time below 1.5 % of the user time on \
+         every row above. The helper's spinning counts as user time, \
          so on two threads the user time is close to twice the wall time even while one thread \
          waits. Loops are cut \
          into equal tasks, a multiple of the thread count (three tasks of 537 particles on two \
