@@ -44,7 +44,7 @@ enum Command {
         /// Include H/dp = 20.
         #[arg(long)]
         medium: bool,
-        /// Include H/dp = 40: Table 1 with TL-HF, every row.
+        /// Include H/dp = 40: Table 1 with TL-HF, every row (with `--table2`, Table 2 too).
         #[arg(long)]
         fine: bool,
         /// Include Table 2 (H = 0.01, TL-HF at H/dp = 20).
