@@ -327,16 +327,9 @@ mod tests {
         }
     }
 
-    fn in_pool<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(f)
-    }
-
     #[test]
     fn reductions_and_maps_are_the_same_on_every_thread_count() {
+        use crate::team::in_pool;
         for n in [0usize, 3, 1023, 1024, 5000, 70_001] {
             let v: Vec<f64> = (0..n).map(|i| ((i * 7919) % 1013) as f64 - 500.0).collect();
             let serial_max = v.iter().copied().fold(-1e300, f64::max);
