@@ -1,16 +1,16 @@
 //! When a loop over particles is split over threads, in one place for every method.
 //!
 //! The loops of a time step run on the [`crate::team`] (helpers that wait actively between
-//! loops, so consecutive loops cost no system call); set-up work (neighbour search, sorting)
-//! stays on rayon. A parallel loop still costs a hand-off: splitting, claiming, joining (measured on the 2D
-//! plate, 1,612 particles: a TL step is ~110 µs of physics in about twenty loops). Loops over
-//! fewer than twice [`MIN_PARTICLES_PER_TASK`] particles therefore stay on the calling thread,
-//! and a loop splits only into tasks of at least that many particles. The value is measured:
-//! at 1,024 per task the 1,612-particle UL plate ran serially and took 24.4 s instead of 15.0 s
-//! on two threads (`sph run oscillating-plate-2d --method ul-enog --set h_over_dp=1.3
-//! --threads 2 --no-output`), so 512 keeps it split in up to three tasks. Every loop that uses these helpers
-//! is a gather (each task writes only its own entries, sums in neighbour-list order), so the
-//! results are identical for any thread count and any split.
+//! loops, so consecutive loops cost no system call); set-up work (reference pair data, sorted
+//! neighbour lists) stays on rayon. A parallel loop still costs a hand-off: splitting,
+//! claiming, joining (measured on the 2D plate, 1,612 particles: a TL step is ~110 µs of
+//! physics in about twenty loops). Loops over fewer than twice [`MIN_PARTICLES_PER_TASK`]
+//! particles therefore stay on the calling thread, and a loop splits only into tasks of at
+//! least that many particles. The value is measured: at 1,024 per task the 1,612-particle UL
+//! plate ran serially and took 24.4 s instead of 15.0 s on two threads (`sph run
+//! oscillating-plate-2d --method ul-enog --set h_over_dp=1.3 --threads 2 --no-output`). Every
+//! loop that uses these helpers is a gather (each task writes only its own entries, sums in
+//! neighbour-list order), so the results are identical for any thread count and any split.
 
 /// The fewest particles a parallel task gets: loops over fewer than twice this many particles
 /// run on the calling thread.
@@ -76,46 +76,19 @@ pub fn gather2<A: Send, B: Send>(
 }
 
 /// The largest `f(i)` over `0..n` (`init` when `n == 0`), on the [`crate::team`]. Exact in any
-/// order, hence the same for every thread count, as long as `f` returns no NaN.
+/// order, hence the same for every thread count (a NaN is dropped, as by `f64::max`).
 pub fn max_over(n: usize, init: f64, f: impl Fn(usize) -> f64 + Sync + Send) -> f64 {
-    if !worth_splitting(n) {
-        return (0..n).map(f).fold(init, f64::max);
-    }
-    let tasks = task_count(n);
-    let best = std::sync::atomic::AtomicU64::new(init.to_bits());
-    crate::team::run_tasks(tasks, &|k| {
-        let m = (k * n / tasks..(k + 1) * n / tasks)
-            .map(&f)
-            .fold(init, f64::max);
-        let mut cur = best.load(std::sync::atomic::Ordering::Relaxed);
-        while m > f64::from_bits(cur) {
-            match best.compare_exchange_weak(
-                cur,
-                m.to_bits(),
-                std::sync::atomic::Ordering::Relaxed,
-                std::sync::atomic::Ordering::Relaxed,
-            ) {
-                Ok(_) => break,
-                Err(c) => cur = c,
-            }
-        }
-    });
-    f64::from_bits(best.into_inner())
+    fold_chunks(n, |rows| rows.map(&f).fold(init, f64::max))
+        .into_iter()
+        .fold(init, f64::max)
 }
 
 /// The smallest `i < n` with `pred(i)`, on the [`crate::team`] (the same for every thread count).
 pub fn first_index(n: usize, pred: impl Fn(usize) -> bool + Sync + Send) -> Option<usize> {
-    if !worth_splitting(n) {
-        return (0..n).find(|&i| pred(i));
-    }
-    let tasks = task_count(n);
-    let first = std::sync::atomic::AtomicUsize::new(usize::MAX);
-    crate::team::run_tasks(tasks, &|k| {
-        if let Some(i) = (k * n / tasks..(k + 1) * n / tasks).find(|&i| pred(i)) {
-            first.fetch_min(i, std::sync::atomic::Ordering::Relaxed);
-        }
-    });
-    Some(first.into_inner()).filter(|&i| i != usize::MAX)
+    fold_chunks(n, |mut rows| rows.find(|&i| pred(i)))
+        .into_iter()
+        .flatten()
+        .next()
 }
 
 /// How many equal tasks a loop over `n` particles (`n` ≥ 2 × [`MIN_PARTICLES_PER_TASK`]) is cut
