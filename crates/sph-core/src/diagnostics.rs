@@ -119,16 +119,28 @@ pub fn check_finite_state<D: Dim>(
         step,
         time,
     };
-    if let Some(i) = positions.iter().position(|&x| !D::is_finite(x)) {
+    let (x, v, m) = (positions, velocities, matrices.1);
+    // A healthy step returns here: one pass over the three arrays, on the team.
+    let same_length = x.len() == v.len() && (m.is_empty() || m.len() == x.len());
+    let bad = |i: usize| {
+        !D::is_finite(x[i])
+            || !D::is_finite(v[i])
+            || m.get(i).is_some_and(|&m| !D::matrix_is_finite(m))
+    };
+    if same_length && crate::parallel::first_index(x.len(), bad).is_none() {
+        return Ok(());
+    }
+    // Something is not finite: name the first entry of the first array that has one.
+    if let Some(i) = x.iter().position(|&x| !D::is_finite(x)) {
         return Err(fail("position", i));
     }
-    if let Some(i) = velocities.iter().position(|&x| !D::is_finite(x)) {
+    if let Some(i) = v.iter().position(|&x| !D::is_finite(x)) {
         return Err(fail("velocity", i));
     }
-    if let Some(i) = matrices.1.iter().position(|&m| !D::matrix_is_finite(m)) {
-        return Err(fail(matrices.0, i));
+    match m.iter().position(|&m| !D::matrix_is_finite(m)) {
+        Some(i) => Err(fail(matrices.0, i)),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 #[cfg(test)]
