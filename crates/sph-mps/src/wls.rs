@@ -245,16 +245,6 @@ pub fn deformation_and_stress<D: Dim, M: Material<D>>(
     });
 }
 
-/// Loops over fewer particles than twice this run on the calling thread (one threshold for
-/// every method: [`sph_core::parallel`]).
-pub const PARALLEL_THRESHOLD: usize = sph_core::parallel::MIN_PARTICLES_PER_TASK;
-
-/// Whether loops over `n` particles are split over threads ([`sph_core::parallel::worth_splitting`]).
-#[inline]
-pub fn parallel(n: usize) -> bool {
-    sph_core::parallel::worth_splitting(n)
-}
-
 /// Pass 2, parallel over particles (gather): the internal force of eq 7,
 /// `f_i = Σ_j (T_i g_ij − T_j g_ji) = −∂U/∂x_i` (see the module documentation); `g_rev[k]` is
 /// `g_ji` of pair `k = (i, j)`.

@@ -620,7 +620,7 @@ impl<D: Dim> UlSolver<D> {
     fn update_pressures(&mut self) {
         let (rho0, c0) = (self.rho0, self.c0);
         let (rho, m) = (&self.densities, &self.masses);
-        gather_pairs(&mut self.pressures, &mut self.current_volumes, |i, p, v| {
+        gather2(&mut self.pressures, &mut self.current_volumes, |i, p, v| {
             *p = pressure(rho[i], rho0, c0);
             *v = m[i] / rho[i];
         });
@@ -787,7 +787,7 @@ impl<D: Dim> UlSolver<D> {
         if parts.is_empty() {
             gather(out, |i, a| *a = self.force_sum::<S, false>(&shear, i).0);
         } else {
-            gather_pairs(out, parts, |i, a, b| {
+            gather2(out, parts, |i, a, b| {
                 (*a, *b) = self.force_sum::<S, true>(&shear, i);
             });
         }
@@ -965,7 +965,7 @@ impl<D: Dim> UlSolver<D> {
                 .sum::<f64>();
         }
         let (v, rates) = (&self.velocities, &self.rates);
-        gather_pairs(&mut self.positions, &mut self.densities, |i, x, rho| {
+        gather2(&mut self.positions, &mut self.densities, |i, x, rho| {
             *x += v[i] * h;
             *rho += rates[i].density * h;
         });
@@ -1258,13 +1258,8 @@ impl<D: Dim> UlSolver<D> {
 /// Column names of the contact-force series (the force's components).
 const AXES: [&str; 3] = ["x", "y", "z"];
 
-/// Loops over fewer particles than twice this run on the calling thread (one threshold for
-/// every method: [`sph_core::parallel`]).
-pub const PARALLEL_THRESHOLD: usize = sph_core::parallel::MIN_PARTICLES_PER_TASK;
-
 pub(crate) use sph_core::parallel::gather;
-
-use sph_core::parallel::gather2 as gather_pairs;
+use sph_core::parallel::gather2;
 
 /// Checks a per-particle array: length `n` (or empty if `optional`), every entry finite and > 0.
 fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Result<(), Error> {
