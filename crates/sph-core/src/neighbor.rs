@@ -294,17 +294,30 @@ fn check_finite<D: Dim>(positions: &[D::Vector]) -> Result<(), Error> {
     }
 }
 
-/// A uniform grid of cells (edge ≥ the cut-off) with the particles sorted by cell through a
-/// counting sort. Cells are numbered `x + nx (y + ny z)`, so the three cells adjacent along x
-/// hold a contiguous run of sorted particles.
+/// A uniform grid of cells (edge = the cut-off) with the particles sorted by cell. Cells are
+/// ordered `(z, y, x)` lexicographically, so the three cells adjacent along x hold a
+/// contiguous run of sorted particles.
+///
+/// Two layouts, the same lists: **dense** (every cell of the bounding box numbered
+/// `x + nx (y + ny z)`, a counting sort) while the box needs at most `4 n + 4096` cells, and
+/// **sparse** (only the occupied cells, found by binary search) when it would need more — a
+/// fragment or a blown-up particle flying far away. Both scan the same cells in the same order,
+/// so a neighbour list is bit for bit the same in either; the sparse one keeps the cell edge at
+/// the cut-off, where enlarging the cells would make the search quadratic.
 #[derive(Clone, Debug)]
 pub struct CellGrid<D: Dim> {
     origin: D::Vector,
     cell_size: f64,
     inv_cell: f64,
+    /// Dense layout: cells per axis (1 for unused axes). Sparse layout: unused (`[0; 3]`).
     dims: [usize; 3],
-    /// `cell_start[c]..cell_start[c + 1]` indexes `sorted` for cell `c`.
+    /// `cell_start[c]..cell_start[c + 1]` indexes `sorted` for cell `c` (dense: the cell
+    /// number; sparse: the position of the cell in `occupied`).
     cell_start: Vec<u32>,
+    /// Which layout.
+    sparse: bool,
+    /// Sparse layout: the occupied cells' coordinates `[z, y, x]`, ascending. Dense: empty.
+    occupied: Vec<[i64; 3]>,
     /// Particle indices in cell order (the permutation `new → old`).
     sorted: Vec<u32>,
     /// Positions in cell order (`sorted_pos[k] = positions[sorted[k]]`), so the candidate scan
@@ -312,18 +325,28 @@ pub struct CellGrid<D: Dim> {
     sorted_pos: Vec<D::Vector>,
 }
 
-/// Upper bound on the number of cells relative to the particle count: a particle flying far away
-/// (blow-up) or a sparse scene makes the cells larger instead of exhausting memory.
+/// Largest number of cells of the dense layout relative to the particle count; a bounding box
+/// that would need more (a particle flying far away, a sparse scene) takes the sparse layout.
 fn max_cells(n: usize) -> usize {
     4 * n + 4096
 }
 
 impl<D: Dim> CellGrid<D> {
-    /// Sorts `positions` into cells of edge `max(min_cell_size, ...)`; the edge grows only if the
-    /// bounding box would need more than `4 n + 4096` cells. Errors on a non-positive cell size
-    /// or non-finite positions.
-    pub fn build(positions: &[D::Vector], min_cell_size: f64) -> Result<Self, Error> {
-        check_positive("cell_size", min_cell_size)?;
+    /// Sorts `positions` into cells of edge `cell_size` (the dense layout, or the sparse one
+    /// when the bounding box would need more than `4 n + 4096` cells). Errors on a
+    /// non-positive cell size or non-finite positions.
+    pub fn build(positions: &[D::Vector], cell_size: f64) -> Result<Self, Error> {
+        Self::build_as(positions, cell_size, false)
+    }
+
+    /// [`Self::build`] in the sparse layout whatever the bounding box (for tests and
+    /// comparisons: the lists are the dense layout's, bit for bit).
+    pub fn build_sparse(positions: &[D::Vector], cell_size: f64) -> Result<Self, Error> {
+        Self::build_as(positions, cell_size, true)
+    }
+
+    fn build_as(positions: &[D::Vector], cell_size: f64, sparse: bool) -> Result<Self, Error> {
+        check_positive("cell_size", cell_size)?;
         check_finite::<D>(positions)?;
         let n = positions.len();
         if n > u32::MAX as usize {
@@ -344,20 +367,14 @@ impl<D: Dim> CellGrid<D> {
                 }
             }
         }
-        let mut cell_size = min_cell_size;
-        let dims = loop {
-            let mut dims = [1usize; 3];
-            let mut total = 1.0f64;
-            for k in 0..D::D {
-                let d = ((hi[k] - lo[k]) / cell_size).floor() + 1.0;
-                total *= d;
-                dims[k] = d as usize;
-            }
-            if total <= max_cells(n) as f64 {
-                break dims;
-            }
-            cell_size *= 2.0;
-        };
+        let mut dims = [1usize; 3];
+        let mut total = 1.0f64;
+        for k in 0..D::D {
+            let d = ((hi[k] - lo[k]) / cell_size).floor() + 1.0;
+            total *= d;
+            dims[k] = d as usize;
+        }
+        let sparse = sparse || total > max_cells(n) as f64;
         let mut origin = D::zero();
         for k in 0..D::D {
             D::set_component(&mut origin, k, lo[k]);
@@ -366,16 +383,30 @@ impl<D: Dim> CellGrid<D> {
             origin,
             cell_size,
             inv_cell: 1.0 / cell_size,
-            dims,
+            dims: if sparse { [0; 3] } else { dims },
             cell_start: Vec::new(),
+            sparse,
+            occupied: Vec::new(),
             sorted: Vec::new(),
             sorted_pos: Vec::new(),
         };
-        // Counting sort: cell of each particle, counts, prefix sum, stable scatter.
-        let ncell = dims[0] * dims[1] * dims[2];
+        if sparse {
+            grid.sort_sparse(positions);
+        } else {
+            grid.sort_dense(positions);
+        }
+        grid.sorted_pos = grid.sorted.iter().map(|&i| positions[i as usize]).collect();
+        Ok(grid)
+    }
+
+    /// Counting sort into the dense cells: cell of each particle, counts, prefix sum, stable
+    /// scatter.
+    fn sort_dense(&mut self, positions: &[D::Vector]) {
+        let n = positions.len();
+        let ncell = self.dims[0] * self.dims[1] * self.dims[2];
         let mut cell_of = vec![0u32; n];
         crate::parallel::gather(&mut cell_of, |i, c| {
-            *c = grid.cell_index(positions[i]) as u32
+            *c = self.cell_index(positions[i]) as u32
         });
         let mut start = vec![0u32; ncell + 1];
         for &c in &cell_of {
@@ -391,10 +422,40 @@ impl<D: Dim> CellGrid<D> {
             sorted[*slot as usize] = i as u32;
             *slot += 1;
         }
-        grid.sorted_pos = sorted.iter().map(|&i| positions[i as usize]).collect();
-        grid.cell_start = start;
-        grid.sorted = sorted;
-        Ok(grid)
+        self.cell_start = start;
+        self.sorted = sorted;
+    }
+
+    /// Sort by (cell, index) into the occupied cells: the dense layout's order.
+    fn sort_sparse(&mut self, positions: &[D::Vector]) {
+        let mut keyed: Vec<([i64; 3], u32)> = positions
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| (self.cell_key(x), i as u32))
+            .collect();
+        keyed.par_sort_unstable();
+        self.sorted = keyed.iter().map(|&(_, i)| i).collect();
+        self.occupied.clear();
+        self.cell_start.clear();
+        for (k, &(key, _)) in keyed.iter().enumerate() {
+            if self.occupied.last() != Some(&key) {
+                self.occupied.push(key);
+                self.cell_start.push(k as u32);
+            }
+        }
+        self.cell_start.push(keyed.len() as u32);
+    }
+
+    /// Unclamped cell coordinates of a point as a sparse key `[z, y, x]` (saturated at the
+    /// ends of `i64`; unused axes 0).
+    #[inline(always)]
+    fn cell_key(&self, x: D::Vector) -> [i64; 3] {
+        let mut key = [0i64; 3];
+        for k in 0..D::D {
+            let f = ((D::component(x, k) - D::component(self.origin, k)) * self.inv_cell).floor();
+            key[2 - k] = f as i64;
+        }
+        key
     }
 
     /// Cell coordinates of a point, clamped to the grid.
@@ -418,14 +479,24 @@ impl<D: Dim> CellGrid<D> {
         c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
     }
 
-    /// The cell edge actually used (≥ the requested minimum).
+    /// The cell edge.
     pub fn cell_size(&self) -> f64 {
         self.cell_size
     }
 
-    /// Number of cells per axis (1 for unused axes).
-    pub fn dims(&self) -> [usize; 3] {
-        self.dims
+    /// Number of cells stored: every cell of the bounding box in the dense layout, the
+    /// occupied ones in the sparse layout (at most `4 n + 4096` in the dense layout).
+    pub fn num_cells(&self) -> usize {
+        if self.is_sparse() {
+            self.occupied.len()
+        } else {
+            self.dims[0] * self.dims[1] * self.dims[2]
+        }
+    }
+
+    /// Whether the grid stores only its occupied cells (see [`CellGrid`]).
+    pub fn is_sparse(&self) -> bool {
+        self.sparse
     }
 
     /// Particle indices in cell order: the permutation `perm[new] = old` that makes particles in
@@ -446,6 +517,9 @@ impl<D: Dim> CellGrid<D> {
     /// grid's cell-ordered copy, contiguous in memory).
     #[inline(always)]
     pub fn for_each_candidate_at(&self, x: D::Vector, mut f: impl FnMut(u32, D::Vector)) {
+        if self.sparse {
+            return self.for_each_sparse_candidate(x, f);
+        }
         // A point outside the grid is clamped to the border cells; candidates are then still a
         // superset of the particles within one cell edge, because the grid encloses them all.
         let c = self.cell_coords(x);
@@ -458,6 +532,32 @@ impl<D: Dim> CellGrid<D> {
                 let row = self.dims[0] * (y + self.dims[1] * z);
                 let a = self.cell_start[row + x_lo] as usize;
                 let b = self.cell_start[row + x_hi + 1] as usize;
+                for (&j, &xj) in self.sorted[a..b].iter().zip(&self.sorted_pos[a..b]) {
+                    f(j, xj);
+                }
+            }
+        }
+    }
+
+    /// The sparse layout's [`Self::for_each_candidate_at`]: the same cells in the same order,
+    /// each row of three cells along x found by binary search among the occupied ones.
+    #[inline]
+    fn for_each_sparse_candidate(&self, x: D::Vector, mut f: impl FnMut(u32, D::Vector)) {
+        let [cz, cy, cx] = self.cell_key(x);
+        let span = |c: i64, used: bool| {
+            if used {
+                c.saturating_sub(1)..=c.saturating_add(1)
+            } else {
+                0..=0
+            }
+        };
+        for z in span(cz, D::D > 2) {
+            for y in span(cy, D::D > 1) {
+                let first = [z, y, cx.saturating_sub(1)];
+                let last = [z, y, cx.saturating_add(1)];
+                let a = self.occupied.partition_point(|k| *k < first);
+                let b = a + self.occupied[a..].partition_point(|k| *k <= last);
+                let (a, b) = (self.cell_start[a] as usize, self.cell_start[b] as usize);
                 for (&j, &xj) in self.sorted[a..b].iter().zip(&self.sorted_pos[a..b]) {
                     f(j, xj);
                 }

@@ -210,8 +210,9 @@ fn bad_input_is_rejected_with_named_fields() {
 
 #[test]
 fn a_particle_far_away_does_not_exhaust_memory() {
-    // A blown-up particle at 1e12 would need ~1e13 cells of edge 0.1; the grid enlarges its
-    // cells instead, and the lists stay exact.
+    // A blown-up particle at 1e12 would need ~1e13 dense cells of edge 0.1; the grid stores
+    // only the occupied cells instead (cells of the cut-off edge, so the search stays local),
+    // and the lists stay exact.
     let mut pts: Vec<DVec3> = (0..1000)
         .map(|i| {
             DVec3::new(
@@ -223,9 +224,43 @@ fn a_particle_far_away_does_not_exhaust_memory() {
         .collect();
     pts.push(DVec3::new(1e12, -3e11, 5.0));
     let grid = CellGrid::<D3>::build(&pts, 0.1).unwrap();
-    let d = grid.dims();
-    assert!(d[0] * d[1] * d[2] <= 4 * pts.len() + 4096);
+    assert!(grid.is_sparse());
+    assert_eq!(grid.cell_size(), 0.1, "the cells keep the cut-off edge");
+    assert!(grid.num_cells() <= pts.len());
     check_all_agree::<D3>(&pts, 0.1);
+}
+
+/// The sparse layout scans the dense layout's cells in the same order: raw rows (not sorted)
+/// equal, for self lists and contact lists (queries inside and outside the grid).
+fn check_layouts_agree<D: Dim>(x: &[D::Vector], q: &[D::Vector], rc: f64) {
+    let dense = CellGrid::<D>::build(x, rc).unwrap();
+    let sparse = CellGrid::<D>::build_sparse(x, rc).unwrap();
+    assert!(!dense.is_sparse() && sparse.is_sparse());
+    assert_eq!(dense.cell_order(), sparse.cell_order());
+    assert_eq!(
+        dense.neighbor_list(x, rc).unwrap(),
+        sparse.neighbor_list(x, rc).unwrap()
+    );
+    assert_eq!(
+        dense.contact_list(q, x, rc).unwrap(),
+        sparse.contact_list(q, x, rc).unwrap()
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn sparse_and_dense_layouts_give_the_same_rows_in_the_same_order(
+        p2 in clustered2(), p3 in clustered3(), rc2 in 0.2..1.0f64, rc3 in 0.45..1.0f64,
+        q in prop::collection::vec((-6.0..6.0f64, -6.0..6.0f64, -6.0..6.0f64), 1..60),
+    ) {
+        // Cut-offs at which the clouds (up to 10.6 wide in 2D, 6.6 in 3D) fit the dense layout.
+        let q3 = vec3s(&q);
+        let q2: Vec<DVec2> = q3.iter().map(|v| DVec2::new(v.x, v.y)).collect();
+        check_layouts_agree::<D2>(&p2, &q2, rc2);
+        check_layouts_agree::<D3>(&p3, &q3, rc3);
+    }
 }
 
 fn lattice_bulk_count<D: Dim>(h_over_dp: f64) -> usize {
