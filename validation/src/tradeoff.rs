@@ -33,6 +33,22 @@ pub struct Selection {
 /// rings at 0.31–1.8 (zigzag) and OG's at 1.6–2.6 (fracture) are visibly disordered.
 pub const DISORDER_LIMIT: f64 = 0.25;
 
+/// A sweep's run may take this many times the (acoustic) steps of the same method's run at the
+/// mildest value (key `max_steps`): one that needs more has a mean step below a tenth of the
+/// acoustic step at rest, a time step collapsing towards the solvers' own floor (10⁻³ of it,
+/// which would cost up to a thousand times a normal run before it stops), and counts as failed
+/// (time-step collapse).
+pub const STEP_LIMIT_FACTOR: f64 = 10.0;
+
+/// `set` without the step limit the sweeps add (`max_steps=…`), for comparing a stored run's
+/// settings with the sweep's.
+fn without_step_limit(set: &[String]) -> Vec<String> {
+    set.iter()
+        .filter(|s| !s.starts_with("max_steps="))
+        .cloned()
+        .collect()
+}
+
 /// How a run's error is measured.
 #[derive(Clone, Copy)]
 enum Measure {
@@ -435,14 +451,25 @@ pub fn run_all(sel: Selection) -> Result<(), String> {
     for sweep in sweeps().into_iter().filter(|s| wanted(s.key)) {
         let values = if sel.quick { sweep.quick } else { sweep.full };
         for m in sweep.methods {
-            for &v in values {
-                run_or_load(
+            // The mildest value's run sets the step limit of the others.
+            let mut limit = None;
+            for (k, &v) in values.iter().enumerate() {
+                let mut set = sweep_set(&sweep, v, sel.quick);
+                set.extend(limit.map(|l| format!("max_steps={l}")));
+                let r = run_or_load(
                     &sweep_run_id(&sweep, m, v, sel.quick),
                     sweep.case,
                     m,
-                    &sweep_set(&sweep, v, sel.quick),
+                    &set,
                     sel.force,
                 )?;
+                if k == 0 && matches!(outcome(&r), Outcome::Ordered | Outcome::Disordered) {
+                    // UL counts advection steps; its acoustic sub-steps are the time scale.
+                    limit = r
+                        .num("acoustic_steps")
+                        .or_else(|| r.num("steps"))
+                        .map(|n| (STEP_LIMIT_FACTOR * n).ceil() as u64);
+                }
             }
         }
     }
@@ -586,7 +613,13 @@ pub fn report(root: &Path) -> Result<(), String> {
          in their pictures (TL-HF's plate at v_f = 0.15: 0.12; UL-ENOG's colliding rings: \
          0.04–0.06) from those visibly disordered (TL-GM's plate at v_f = 0.15: 0.55; OAS's \
          rings: 0.31–1.8, zigzag; OG's: 1.6–2.6, broken). The number in a cell is the largest \
-         disorder indicator.\n"
+         disorder indicator. Every run but the mildest of a method may take at most \
+         {STEP_LIMIT_FACTOR} times the steps (for UL: the acoustic sub-steps) of the method's \
+         run at the mildest value (`max_steps`, in its command): a run that needs more has a \
+         mean step below about a tenth of the acoustic step at rest, a time step collapsing \
+         towards the solvers' own floor (10⁻³ of it, which lets a run take up to a thousand \
+         times its usual steps before it stops), and counts as failed (time-step collapse: \
+         more steps than the limit).\n"
     )
     .unwrap();
     for sweep in sweeps() {
@@ -895,10 +928,63 @@ pub fn outcome(run: &CostedRun) -> Outcome {
     }
 }
 
+/// One sentence on a method's runs of a sweep (in increasing severity, rejected values left
+/// out): up to which value it stays ordered, where it first becomes disordered and where it
+/// first fails, and why.
+fn usability_sentence(parameter: &str, runs: &[(f64, &CostedRun)]) -> String {
+    let at = |v: f64| format!("{parameter} = {}", fmt_value(v));
+    let disorder = |r: &CostedRun| {
+        r.num("max_disorder")
+            .map_or("–".into(), |d| format!("{d:.2}"))
+    };
+    let Some(&(mildest, _)) = runs.first() else {
+        return ": not run yet".into();
+    };
+    let first = |o: fn(&Outcome) -> bool| runs.iter().position(|(_, r)| o(&outcome(r)));
+    let disordered = first(|o| matches!(o, Outcome::Disordered));
+    let failed = first(|o| matches!(o, Outcome::Failed));
+    let fails = |k: usize| {
+        format!(
+            "fails at {} ({})",
+            at(runs[k].0),
+            failure_reason(&runs[k].1.status())
+        )
+    };
+    let bad = match (disordered, failed) {
+        (None, None) => {
+            return format!(
+                "stays ordered over the values run ({} to {})",
+                fmt_value(mildest),
+                fmt_value(runs[runs.len() - 1].0)
+            )
+        }
+        (Some(d), Some(f)) if d < f => format!(
+            "becomes disordered at {} (max disorder {}) and {}",
+            at(runs[d].0),
+            disorder(runs[d].1),
+            fails(f)
+        ),
+        (Some(d), None) => format!(
+            "becomes disordered at {} (max disorder {})",
+            at(runs[d].0),
+            disorder(runs[d].1)
+        ),
+        (_, Some(f)) => fails(f),
+    };
+    let k = disordered.into_iter().chain(failed).min().unwrap_or(0);
+    if k == 0 {
+        format!("{bad}, already the mildest value run")
+    } else {
+        format!("is usable up to {}; it {bad}", at(runs[k - 1].0))
+    }
+}
+
 /// The reason a failed run stopped, in a few words.
 fn failure_reason(status: &str) -> &'static str {
     let s = status.to_lowercase();
-    if s.contains("time step") || s.contains("collapse") {
+    if s.contains("step limit") {
+        "time-step collapse: more steps than the limit"
+    } else if s.contains("time step") || s.contains("collapse") {
         "time-step collapse"
     } else if s.contains("non-finite") || s.contains("nan") || s.contains("infinite") {
         "non-finite state"
@@ -923,7 +1009,7 @@ fn sweep_section(md: &mut String, sweep: &Sweep, fig_dir: &Path) -> Result<bool,
         for (mi, m) in sweep.methods.iter().enumerate() {
             for (vi, &v) in values.iter().enumerate() {
                 if let Some(r) = crate::cost::load(&sweep_run_id(sweep, m, v, quick)) {
-                    if r.set == sweep_set(sweep, v, quick) {
+                    if without_step_limit(&r.set) == sweep_set(sweep, v, quick) {
                         cells.push((mi, vi, r));
                     }
                 }
@@ -1025,32 +1111,21 @@ fn sweep_section(md: &mut String, sweep: &Sweep, fig_dir: &Path) -> Result<bool,
         writeln!(md).unwrap();
     }
     writeln!(md).unwrap();
-    // Where each method stops being usable.
+    // Where each method stops being usable, and what breaks first.
     for (mi, m) in sweep.methods.iter().enumerate() {
-        let first_bad = used.iter().find_map(|&vi| {
-            let (_, _, r) = cells.iter().find(|c| c.0 == mi && c.1 == vi)?;
-            match outcome(r) {
-                Outcome::Ordered | Outcome::Rejected => None,
-                Outcome::Disordered => Some(format!(
-                    "becomes disordered at {} = {} (max disorder {:.2})",
-                    sweep.parameter,
-                    fmt_value(values[vi]),
-                    r.num("max_disorder").unwrap_or(f64::NAN)
-                )),
-                Outcome::Failed => Some(format!(
-                    "fails at {} = {} ({})",
-                    sweep.parameter,
-                    fmt_value(values[vi]),
-                    failure_reason(&r.status())
-                )),
-            }
-        });
-        let ran = cells.iter().any(|c| c.0 == mi);
-        match first_bad {
-            Some(s) => writeln!(md, "- **{m}** {s}.").unwrap(),
-            None if ran => writeln!(md, "- **{m}** stays ordered over the values run.").unwrap(),
-            None => writeln!(md, "- **{m}**: not run yet.").unwrap(),
-        }
+        let runs: Vec<(f64, &CostedRun)> = used
+            .iter()
+            .filter_map(|&vi| {
+                let (_, _, r) = cells.iter().find(|c| c.0 == mi && c.1 == vi)?;
+                (!matches!(outcome(r), Outcome::Rejected)).then_some((values[vi], r))
+            })
+            .collect();
+        writeln!(
+            md,
+            "- **{m}** {}.",
+            usability_sentence(sweep.parameter, &runs)
+        )
+        .unwrap();
     }
     writeln!(
         md,

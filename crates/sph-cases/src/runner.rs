@@ -4,7 +4,8 @@ pub use sph_driver::run::*;
 
 /// The output-schedule keys every case accepts: `snapshot_interval` and `snapshots` (0 and 50
 /// by default: a snapshot every `end_time/50`, 51 frames; `snapshots = 1` for the first and
-/// last only), `monitor_interval` (0: end_time/200) and `probe_interval` (0: every step).
+/// last only), `monitor_interval` (0: end_time/200), `probe_interval` (0: every step) and
+/// `max_steps` (0: no limit).
 pub fn output_params() -> Vec<crate::params::Param> {
     use crate::params::{Param, Range};
     vec![
@@ -32,6 +33,13 @@ pub fn output_params() -> Vec<crate::params::Param> {
             0.0,
             Range::NonNegative,
             "time between probe samples (0: every step)",
+        ),
+        Param::int(
+            "max_steps",
+            0,
+            Range::Closed(0.0, 1e15),
+            "most steps the run may take; reaching it before end_time stops the run with a \
+             diagnostic, results kept (0: no limit)",
         ),
     ]
 }

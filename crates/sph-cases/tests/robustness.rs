@@ -488,6 +488,17 @@ const BLOW_UPS: &[(&str, &[&str], &str)] = &[
         &["slab-tension-2d", "--set", "acceleration=1e9"],
         "inverted (J = ",
     ),
+    (
+        "a run that reaches its step limit (max_steps = 20)",
+        &[
+            "oscillating-plate-2d",
+            "--method",
+            "ul-enog",
+            "--set",
+            "max_steps=20",
+        ],
+        "the step limit max_steps = 20 was reached at time ",
+    ),
 ];
 
 /// The `sph` invocations whose stdout is closed before they write.
@@ -664,11 +675,11 @@ const CLASSES: &[Class] = &[
     Class {
         item: "8",
         class: "runs that blow up: TL, TL-HF, UL-ENOG (plates thrown at 50 c0), MPS (slab \
-                pulled at 1e9 m/s²)",
+                pulled at 1e9 m/s²); a run that reaches its step limit (`max_steps`)",
         count: || BLOW_UPS.len(),
         outcome: "rc 1, one line `the run stopped early: …` (inverted particle, collapsed \
-                  step, lost neighbours); the `.h5` completed with everything up to the last \
-                  good step and `status: failed: …`, the summary written",
+                  step, lost neighbours, the step limit `max_steps` reached); the `.h5` \
+                  completed with everything up to the last good step and `status: failed: …`, the summary written",
         test: "blow_ups_stop_with_a_diagnostic_and_keep_the_results",
     },
     Class {
@@ -996,6 +1007,7 @@ fn absurd_schedules_end_times_and_threads_are_refused() {
         snapshot_interval: 0.01,
         monitor_interval: 0.005,
         probe_interval: 0.0,
+        max_steps: 0,
     };
     let estimate = sph_cases::guard::Estimate {
         particles: 1000,

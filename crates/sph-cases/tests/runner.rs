@@ -86,6 +86,7 @@ fn a_failure_mid_run_completes_the_file_with_the_diagnostic() {
         snapshot_interval: 0.1,
         monitor_interval: 0.05,
         probe_interval: 0.0,
+        max_steps: 0,
     };
     let (record, summary) = drive::<D2>(&mut s, meta, schedule, &["disorder"], &options, |_, _| {
         Map::new()
@@ -184,6 +185,7 @@ fn an_interrupt_stops_after_the_current_step_and_completes_the_file() {
         snapshot_interval: 0.25,
         monitor_interval: 0.05,
         probe_interval: 0.0,
+        max_steps: 0,
     };
     let (record, summary) = drive::<D2>(&mut s, meta, schedule, &["disorder"], &options, |_, _| {
         Map::new()
@@ -228,6 +230,7 @@ fn a_dry_run_estimates_and_writes_nothing() {
         snapshot_interval: 0.1,
         monitor_interval: 0.05,
         probe_interval: 0.0,
+        max_steps: 0,
     };
     let (record, summary) = drive::<D2>(
         &mut s,
@@ -303,6 +306,7 @@ fn a_step_that_does_not_advance_time_stops_the_run() {
         snapshot_interval: 0.0,
         monitor_interval: 0.5,
         probe_interval: 0.0,
+        max_steps: 0,
     };
     let (record, _) = drive::<D2>(
         &mut s,

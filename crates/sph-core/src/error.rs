@@ -56,6 +56,22 @@ pub enum Error {
         /// Simulated time.
         time: f64,
     },
+    /// The run took as many steps as it was allowed (the `max_steps` key) before its end time:
+    /// its time step has become far smaller than planned.
+    #[error(
+        "the step limit max_steps = {limit} was reached at time {time:e}, before the end time \
+         {end:e} (mean step so far {mean_dt:e})"
+    )]
+    StepLimitReached {
+        /// The limit.
+        limit: u64,
+        /// Simulated time reached.
+        time: f64,
+        /// The end time the run was going to.
+        end: f64,
+        /// Simulated time over steps so far.
+        mean_dt: f64,
+    },
     /// A generator would make more particles than the memory budget allows (see
     /// [`crate::budget`]); nothing was allocated.
     #[error("{what} would generate ≈ {particles} particles needing ≈ {memory} of memory, more than the limit of {limit}")]

@@ -125,6 +125,9 @@ pub struct Schedule {
     /// Interval between probe samples (0: every step); the probes record on their own, this
     /// is for the estimate of their memory.
     pub probe_interval: f64,
+    /// Most steps the run may take (0: no limit); reaching it before `end_time` stops the run
+    /// with [`sph_core::Error::StepLimitReached`], everything written kept.
+    pub max_steps: u64,
 }
 
 /// One sample of the run monitor.
@@ -537,7 +540,8 @@ pub fn drive<D: Dim>(
         let t0 = Instant::now();
         // On several ranks a signal is acted on between these stretches, agreed above.
         let own_interrupt = options.interrupt.as_ref().filter(|_| comm.is_none());
-        let failed = steps_until(solver, target, eps, own_interrupt);
+        let limit = (schedule.max_steps > 0).then_some((schedule.max_steps, end));
+        let failed = steps_until(solver, target, eps, own_interrupt, limit);
         record.solver_seconds += t0.elapsed().as_secs_f64();
         report(solver, &record, false);
         if let Some(e) = failed {
@@ -728,12 +732,21 @@ fn steps_until<D: Dim>(
     target: f64,
     eps: f64,
     interrupt: Option<&Interrupt>,
+    limit: Option<(u64, f64)>,
 ) -> Option<sph_core::Error> {
     let interrupted =
         || interrupt.is_some_and(|f| f.load(std::sync::atomic::Ordering::SeqCst) != 0);
     let mut run = || {
         while solver.time() + eps < target && !interrupted() {
             let before = solver.time();
+            if let Some((limit, end)) = limit.filter(|&(l, _)| solver.step_count() >= l) {
+                return Some(sph_core::Error::StepLimitReached {
+                    limit,
+                    time: before,
+                    end,
+                    mean_dt: before / solver.step_count().max(1) as f64,
+                });
+            }
             if let Err(e) = solver.step(target - before) {
                 return Some(e);
             }
@@ -1040,6 +1053,7 @@ impl Run {
                 .unwrap_or(self.end_time / f64::from(DEFAULT_SNAPSHOTS)),
             monitor_interval: self.monitor_interval.unwrap_or(self.end_time / 200.0),
             probe_interval: 0.0,
+            max_steps: 0,
         };
         let offered = solver.field_names();
         let fields: Vec<String> = match self.fields {

@@ -1039,6 +1039,7 @@ impl Scene {
                 .filter(|&m| m > 0.0)
                 .unwrap_or(end_time / 200.0),
             probe_interval: o.probe_interval.unwrap_or(0.0),
+            max_steps: o.max_steps.unwrap_or(0),
         })
     }
 

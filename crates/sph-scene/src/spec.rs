@@ -77,6 +77,9 @@ pub struct OutputSpec {
     pub monitor_interval: Option<f64>,
     /// Time between probe samples (default 0: every step).
     pub probe_interval: Option<f64>,
+    /// Most steps the run may take (default 0: no limit); reaching it before `end_time` stops
+    /// the run with a diagnostic, results kept.
+    pub max_steps: Option<u64>,
     /// Fields written with every snapshot (default: velocity, displacement, von_mises,
     /// jacobian, density, disorder where the method offers them).
     pub fields: Option<Vec<String>>,

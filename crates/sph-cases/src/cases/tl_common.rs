@@ -155,6 +155,10 @@ pub fn schedule(p: &Params, end_time: f64) -> Schedule {
             Some(crate::params::Value::Float(x)) => *x,
             _ => 0.0,
         },
+        max_steps: match p.value("max_steps") {
+            Some(crate::params::Value::Int(n)) => *n as u64,
+            _ => 0,
+        },
     }
 }
 
