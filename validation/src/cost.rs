@@ -72,6 +72,23 @@ pub fn load(id: &str) -> Option<CostedRun> {
 }
 
 /// The `sph` binary next to this one (both built by `cargo build --release`).
+/// The steps `sph run <case> --method <method> --set … --dry-run` estimates for the run (its
+/// `steps_estimate`: end time over the stable step of the initial state; for UL the acoustic
+/// steps), or `None` if the dry run fails or gives none.
+pub fn estimated_steps(case: &str, method: &str, set: &[String]) -> Option<f64> {
+    let mut cmd = std::process::Command::new(sph_binary().ok()?);
+    cmd.args(["run", case, "--method", method]);
+    for s in set {
+        cmd.args(["--set", s]);
+    }
+    let out = cmd.arg("--dry-run").output().ok()?;
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .find_map(|l| l.strip_prefix("steps_estimate"))
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|n| n.is_finite() && *n > 0.0)
+}
+
 fn sph_binary() -> Result<PathBuf, String> {
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let sph = exe.with_file_name("sph");

@@ -33,11 +33,12 @@ pub struct Selection {
 /// rings at 0.31–1.8 (zigzag) and OG's at 1.6–2.6 (fracture) are visibly disordered.
 pub const DISORDER_LIMIT: f64 = 0.25;
 
-/// A sweep's run may take this many times the (acoustic) steps of the same method's run at the
-/// mildest value (key `max_steps`): one that needs more has a mean step below a tenth of the
-/// acoustic step at rest, a time step collapsing towards the solvers' own floor (10⁻³ of it,
-/// which would cost up to a thousand times a normal run before it stops), and counts as failed
-/// (time-step collapse).
+/// A sweep's run may take this many times the steps its dry run estimates (`steps_estimate`:
+/// the end time over the stable step of the initial state; for UL the acoustic steps), key
+/// `max_steps`: one that needs more has a mean step below a tenth of that step, a time step
+/// collapsing towards the solvers' own floor (10⁻³ of the acoustic step at rest, which would
+/// cost up to a thousand times a normal run before it stops), and counts as failed (time-step
+/// collapse).
 pub const STEP_LIMIT_FACTOR: f64 = 10.0;
 
 /// `set` without the step limit the sweeps add (`max_steps=…`), for comparing a stored run's
@@ -451,25 +452,18 @@ pub fn run_all(sel: Selection) -> Result<(), String> {
     for sweep in sweeps().into_iter().filter(|s| wanted(s.key)) {
         let values = if sel.quick { sweep.quick } else { sweep.full };
         for m in sweep.methods {
-            // The mildest value's run sets the step limit of the others.
-            let mut limit = None;
-            for (k, &v) in values.iter().enumerate() {
+            for &v in values {
                 let mut set = sweep_set(&sweep, v, sel.quick);
-                set.extend(limit.map(|l| format!("max_steps={l}")));
-                let r = run_or_load(
+                // The step limit: a multiple of the steps the run's dry run estimates.
+                let limit = crate::cost::estimated_steps(sweep.case, m, &set);
+                set.extend(limit.map(|n| format!("max_steps={}", (STEP_LIMIT_FACTOR * n).ceil())));
+                run_or_load(
                     &sweep_run_id(&sweep, m, v, sel.quick),
                     sweep.case,
                     m,
                     &set,
                     sel.force,
                 )?;
-                if k == 0 && matches!(outcome(&r), Outcome::Ordered | Outcome::Disordered) {
-                    // UL counts advection steps; its acoustic sub-steps are the time scale.
-                    limit = r
-                        .num("acoustic_steps")
-                        .or_else(|| r.num("steps"))
-                        .map(|n| (STEP_LIMIT_FACTOR * n).ceil() as u64);
-                }
             }
         }
     }
@@ -613,13 +607,13 @@ pub fn report(root: &Path) -> Result<(), String> {
          in their pictures (TL-HF's plate at v_f = 0.15: 0.12; UL-ENOG's colliding rings: \
          0.04–0.06) from those visibly disordered (TL-GM's plate at v_f = 0.15: 0.55; OAS's \
          rings: 0.31–1.8, zigzag; OG's: 1.6–2.6, broken). The number in a cell is the largest \
-         disorder indicator. Every run but the mildest of a method may take at most \
-         {STEP_LIMIT_FACTOR} times the steps (for UL: the acoustic sub-steps) of the method's \
-         run at the mildest value (`max_steps`, in its command): a run that needs more has a \
-         mean step below about a tenth of the acoustic step at rest, a time step collapsing \
-         towards the solvers' own floor (10⁻³ of it, which lets a run take up to a thousand \
-         times its usual steps before it stops), and counts as failed (time-step collapse: \
-         more steps than the limit).\n"
+         disorder indicator. Every run may take at most {STEP_LIMIT_FACTOR} times the steps \
+         its dry run estimates (`steps_estimate` of `sph run … --dry-run`: the end time over \
+         the stable step of the initial state; for UL the acoustic steps), as `max_steps` in \
+         its command: a run that needs more has a mean step below a tenth of that step, a \
+         time step collapsing towards the solvers' own floor (10⁻³ of the acoustic step at \
+         rest, which lets a run take up to a thousand times its usual steps before it stops), \
+         and counts as failed (time-step collapse: more steps than the limit).\n"
     )
     .unwrap();
     for sweep in sweeps() {
