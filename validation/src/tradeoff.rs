@@ -944,6 +944,14 @@ fn usability_sentence(parameter: &str, runs: &[(f64, &CostedRun)]) -> String {
             failure_reason(&runs[k].1.status())
         )
     };
+    let first_bad = disordered.into_iter().chain(failed).min().unwrap_or(0);
+    let mildest_note = |k: usize| {
+        if k == 0 {
+            ", already at the mildest value run"
+        } else {
+            ""
+        }
+    };
     let bad = match (disordered, failed) {
         (None, None) => {
             return format!(
@@ -953,23 +961,24 @@ fn usability_sentence(parameter: &str, runs: &[(f64, &CostedRun)]) -> String {
             )
         }
         (Some(d), Some(f)) if d < f => format!(
-            "becomes disordered at {} (max disorder {}) and {}",
+            "becomes disordered at {} (max disorder {}){} and {}",
             at(runs[d].0),
             disorder(runs[d].1),
+            mildest_note(d),
             fails(f)
         ),
         (Some(d), None) => format!(
-            "becomes disordered at {} (max disorder {})",
+            "becomes disordered at {} (max disorder {}){}",
             at(runs[d].0),
-            disorder(runs[d].1)
+            disorder(runs[d].1),
+            mildest_note(d)
         ),
-        (_, Some(f)) => fails(f),
+        (_, Some(f)) => format!("{}{}", fails(f), mildest_note(f)),
     };
-    let k = disordered.into_iter().chain(failed).min().unwrap_or(0);
-    if k == 0 {
-        format!("{bad}, already the mildest value run")
+    if first_bad == 0 {
+        bad
     } else {
-        format!("is usable up to {}; it {bad}", at(runs[k - 1].0))
+        format!("is usable up to {}; it {bad}", at(runs[first_bad - 1].0))
     }
 }
 
