@@ -961,7 +961,7 @@ fn usability_sentence(parameter: &str, runs: &[(f64, &CostedRun)]) -> String {
             )
         }
         (Some(d), Some(f)) if d < f => format!(
-            "becomes disordered at {} (max disorder {}){} and {}",
+            "becomes disordered at {} (max disorder {}){}, and {}",
             at(runs[d].0),
             disorder(runs[d].1),
             mildest_note(d),
