@@ -138,12 +138,15 @@ pub fn run_or_load_writing(
             }
         }
     }
-    if crate::store::plan_only() {
+    let not_selected = crate::store::filtered_out(id);
+    if crate::store::plan_only() || not_selected {
         // `validate --plan tradeoff`: list the run (made by `validate tradeoff`, which times
-        // it), do not make it.
-        let sets: String = set.iter().map(|s| format!(" --set {s}")).collect();
-        let how = if output { "" } else { " --no-output" };
-        println!("{id}\tsph run {case} --method {method}{sets} --threads {threads}{how}");
+        // it), do not make it. `validate --runs PREFIX tradeoff`: make only the selected runs.
+        if !not_selected {
+            let sets: String = set.iter().map(|s| format!(" --set {s}")).collect();
+            let how = if output { "" } else { " --no-output" };
+            println!("{id}\tsph run {case} --method {method}{sets} --threads {threads}{how}");
+        }
         return Ok(CostedRun {
             id: id.into(),
             case: case.into(),
@@ -155,7 +158,11 @@ pub fn run_or_load_writing(
             wall_seconds: f64::NAN,
             max_rss_mib: f64::NAN,
             summary: Map::new(),
-            message: "planned, not run".into(),
+            message: if not_selected {
+                "not selected (--runs)".into()
+            } else {
+                "planned, not run".into()
+            },
         });
     }
     let sph = sph_binary()?;

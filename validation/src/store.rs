@@ -149,7 +149,7 @@ pub fn set_run_filter(prefix: Option<String>) {
 }
 
 /// Whether run `id` is filtered out by [`set_run_filter`].
-fn filtered_out(id: &str) -> bool {
+pub(crate) fn filtered_out(id: &str) -> bool {
     RUN_FILTER
         .lock()
         .expect("filter lock")

@@ -29,7 +29,7 @@ struct Cli {
     #[arg(long, global = true)]
     plan: bool,
     /// Make only the runs whose id starts with this (ids as `--plan` prints them); the others
-    /// are used when stored and skipped otherwise (tl, mps, ul, extreme, impacts).
+    /// are used when stored and skipped otherwise (tl, mps, ul, extreme, impacts, tradeoff).
     #[arg(long, global = true, value_name = "ID_PREFIX")]
     runs: Option<String>,
     #[command(subcommand)]
