@@ -131,8 +131,117 @@ pub fn fold_chunks<R: Send>(
     map_tasks(tasks, |k| fold(k * n / tasks..(k + 1) * n / tasks))
 }
 
+/// Per-particle arrays one loop writes together: a tuple of mutable slices, each either one
+/// entry per particle or empty (a field the scene does not carry, e.g. UL's `τ` when it is not
+/// integrated). [`fold_columns`] hands each task its rows of every array, so a loop that
+/// updates several fields of a particle (a drift of `x`, `ρ` and `τ` with the pressure of the
+/// new `ρ`) is one pass instead of one per field.
+pub trait Columns<'a>: Sized {
+    /// The arrays while the tasks of one loop share them.
+    #[doc(hidden)]
+    type Shared: Sync;
+    /// One task's rows of every array (an empty array gives an empty slice).
+    type Part;
+    /// # Panics
+    /// If an array is neither `n` long nor empty.
+    #[doc(hidden)]
+    fn share(self, n: usize) -> Self::Shared;
+    /// # Safety
+    /// `rows` within `0..n`, and no two live parts of the same shared arrays overlap.
+    #[doc(hidden)]
+    unsafe fn part(shared: &Self::Shared, rows: std::ops::Range<usize>) -> Self::Part;
+}
+
+macro_rules! columns_for_tuple {
+    ($($name:ident : $t:ident),+) => {
+        impl<'a, $($t: Send + 'a),+> Columns<'a> for ($(&'a mut [$t],)+) {
+            type Shared = ($(SharedMut<$t>,)+);
+            type Part = ($(&'a mut [$t],)+);
+            fn share(self, n: usize) -> Self::Shared {
+                let ($($name,)+) = self;
+                $(assert!(
+                    $name.len() == n || $name.is_empty(),
+                    "a column of {} entries in a loop over {n} particles",
+                    $name.len()
+                );)+
+                ($(SharedMut::new($name),)+)
+            }
+            unsafe fn part(shared: &Self::Shared, rows: std::ops::Range<usize>) -> Self::Part {
+                let ($($name,)+) = shared;
+                // SAFETY: the caller's contract (disjoint rows within every non-empty array).
+                unsafe {
+                    ($(if $name.len == 0 { $name.slice(0..0) } else { $name.slice(rows.clone()) },)+)
+                }
+            }
+        }
+    };
+}
+columns_for_tuple!(a: A);
+columns_for_tuple!(a: A, b: B);
+columns_for_tuple!(a: A, b: B, c: C);
+columns_for_tuple!(a: A, b: B, c: C, d: E);
+columns_for_tuple!(a: A, b: B, c: C, d: E, e: G);
+columns_for_tuple!(a: A, b: B, c: C, d: E, e: G, f: H);
+
+/// `fold(rows, part)` for consecutive ranges of rows covering `0..n`, where `part` holds those
+/// rows of every array of `columns` ([`Columns`]); the results in order. The same ranges as
+/// [`fold_chunks`]: one on the calling thread below the splitting size, else one per task of
+/// the [`crate::team`]. Each task writes only its own rows, so the arrays come out the same
+/// for every thread count; a reduction over the results is as deterministic as with
+/// [`fold_chunks`].
+///
+/// ```
+/// let (mut x, mut y) = (vec![1.0; 3000], vec![0.0; 3000]);
+/// let largest = sph_core::parallel::fold_columns(3000, (&mut x[..], &mut y[..]), |rows, (x, y)| {
+///     let mut m = 0.0f64;
+///     for (k, i) in rows.enumerate() {
+///         x[k] += i as f64;
+///         y[k] = 2.0 * x[k];
+///         m = m.max(y[k]);
+///     }
+///     m
+/// });
+/// assert_eq!(largest.into_iter().fold(0.0, f64::max), 6000.0);
+/// assert!(x.iter().enumerate().all(|(i, &v)| v == 1.0 + i as f64));
+/// ```
+pub fn fold_columns<'a, C: Columns<'a>, R: Send>(
+    n: usize,
+    columns: C,
+    fold: impl Fn(std::ops::Range<usize>, C::Part) -> R + Sync + Send,
+) -> Vec<R> {
+    let shared = columns.share(n);
+    // SAFETY (both): the ranges are disjoint and within `0..n`; each is one task's.
+    if !worth_splitting(n) {
+        return vec![fold(0..n, unsafe { C::part(&shared, 0..n) })];
+    }
+    let tasks = task_count(n);
+    map_tasks(tasks, |k| {
+        let rows = k * n / tasks..(k + 1) * n / tasks;
+        fold(rows.clone(), unsafe { C::part(&shared, rows) })
+    })
+}
+
+/// [`fold_columns`] without a result: `update(rows, part)` for the rows of every task.
+pub fn gather_columns<'a, C: Columns<'a>>(
+    n: usize,
+    columns: C,
+    update: impl Fn(std::ops::Range<usize>, C::Part) + Sync + Send,
+) {
+    let shared = columns.share(n);
+    // SAFETY (both): the ranges are disjoint and within `0..n`; each is one task's.
+    if !worth_splitting(n) {
+        return update(0..n, unsafe { C::part(&shared, 0..n) });
+    }
+    let tasks = task_count(n);
+    crate::team::run_tasks(tasks, &|k| {
+        let rows = k * n / tasks..(k + 1) * n / tasks;
+        update(rows.clone(), unsafe { C::part(&shared, rows) });
+    });
+}
+
 /// A slice shared by the tasks of one loop, each of which takes a disjoint part.
-struct SharedMut<T> {
+#[doc(hidden)]
+pub struct SharedMut<T> {
     ptr: *mut T,
     len: usize,
 }
@@ -151,7 +260,7 @@ impl<T> SharedMut<T> {
     /// # Safety
     /// `r` within the slice, and no two live parts overlap.
     #[allow(clippy::mut_from_ref)]
-    unsafe fn slice(&self, r: std::ops::Range<usize>) -> &mut [T] {
+    unsafe fn slice<'b>(&self, r: std::ops::Range<usize>) -> &'b mut [T] {
         assert!(r.start <= r.end && r.end <= self.len);
         unsafe { std::slice::from_raw_parts_mut(self.ptr.add(r.start), r.end - r.start) }
     }
@@ -289,6 +398,49 @@ mod tests {
                 assert_eq!(b, block_of(n, i), "particle {i} of {n}");
             }
         }
+    }
+
+    #[test]
+    fn columns_give_each_task_its_own_rows_of_every_array_and_skip_empty_ones() {
+        use crate::team::in_pool;
+        for n in [0usize, 5, 1023, 1024, 5000] {
+            for threads in 1..=3 {
+                in_pool(threads, || {
+                    let (mut a, mut b, mut none) =
+                        (vec![0usize; n], vec![0.0f64; n], Vec::<u8>::new());
+                    let sums = fold_columns(
+                        n,
+                        (&mut a[..], &mut b[..], &mut none[..]),
+                        |rows, (a, b, none)| {
+                            assert!(none.is_empty());
+                            assert_eq!((a.len(), b.len()), (rows.len(), rows.len()));
+                            for (k, i) in rows.clone().enumerate() {
+                                assert_eq!(a[k], 0, "row {i} written twice");
+                                a[k] = i + 1;
+                                b[k] = 0.5 * i as f64;
+                            }
+                            rows.len()
+                        },
+                    );
+                    assert_eq!(sums.iter().sum::<usize>(), n);
+                    assert!(a.iter().enumerate().all(|(i, &x)| x == i + 1));
+                    assert!(b.iter().enumerate().all(|(i, &x)| x == 0.5 * i as f64));
+                    gather_columns(n, (&mut a[..],), |rows, (a,)| {
+                        for (k, i) in rows.enumerate() {
+                            a[k] += i;
+                        }
+                    });
+                    assert!(a.iter().enumerate().all(|(i, &x)| x == 2 * i + 1));
+                });
+            }
+        }
+    }
+
+    #[test]
+    #[should_panic(expected = "a column of 3 entries in a loop over 4 particles")]
+    fn a_column_of_another_length_is_refused() {
+        let (mut a, mut b) = (vec![0u8; 4], vec![0u8; 3]);
+        gather_columns(4, (&mut a[..], &mut b[..]), |_, _| {});
     }
 
     #[test]

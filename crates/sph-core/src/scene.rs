@@ -253,27 +253,32 @@ impl<D: Dim> Constraints<D> {
     /// Removes accelerations along constrained directions (all components for fixed and
     /// prescribed-velocity particles).
     pub fn apply_to_accelerations(&self, a: &mut [D::Vector]) {
+        self.remove_accelerations(a, |_, _| {});
+    }
+
+    /// [`Self::apply_to_accelerations`], returning the force the constraints take away,
+    /// `Σ m_i (a_i before − a_i after)` over the constrained particles in constraint order
+    /// (a momentum balance's constraint impulse per unit time, without a pass over the free
+    /// particles).
+    pub fn apply_to_accelerations_removed_force(
+        &self,
+        a: &mut [D::Vector],
+        masses: &[f64],
+    ) -> D::Vector {
+        let mut removed = D::zero();
+        self.remove_accelerations(a, |i, da| removed += da * masses[i]);
+        removed
+    }
+
+    /// The one loop behind both: `taken(i, a_i before − a_i after)` for every change.
+    fn remove_accelerations(&self, a: &mut [D::Vector], mut taken: impl FnMut(usize, D::Vector)) {
         for c in &self.list {
-            match c {
-                Constraint::Fixed { particles }
-                | Constraint::PrescribedVelocity { particles, .. } => {
-                    for &i in particles {
-                        a[i as usize] = D::zero();
-                    }
-                }
-                Constraint::FixedComponents {
-                    particles,
-                    components,
-                }
-                | Constraint::PrescribedComponents {
-                    particles,
-                    components,
-                    ..
-                } => {
-                    for &i in particles {
-                        zero_components::<D>(&mut a[i as usize], components);
-                    }
-                }
+            let (particles, components) = (c.particles(), c.components());
+            for &i in particles {
+                let i = i as usize;
+                let before = a[i];
+                zero_components::<D>(&mut a[i], &components);
+                taken(i, before - a[i]);
             }
         }
     }

@@ -15,6 +15,13 @@
 //! 5. eq 25: `x`, `ρ`, `τ` to the full step; then the ENOG accumulation
 //!    `A_s += Δt · 2ζ (G/ρ) Σ …` (never reset).
 //!
+//! Element-wise work rides on the pair loops it follows or precedes: step 1 and the pressures
+//! of step 2 are one pass (`drift_and_pressures`), steps 4 and 5 and the next
+//! `|v|max` another (`compute_rates`), so a sub-step is five parallel loops (drift, kernel
+//! data, forces, kick, rates) instead of nine; each is the same arithmetic per particle as the
+//! separate loops, in the same order, so the results are bit for bit those of the separate
+//! loops (and the same for every thread count).
+//!
 //! The neighbour list and the correction matrix `B` are those of the last rebuild, frozen over
 //! the acoustic sub-steps of one advection step; the kernel data (`e_ij`, `r_ij`, `W`, `W′`) are
 //! recomputed over that list from the half-step positions of every sub-step
@@ -227,6 +234,8 @@ pub struct UlSolver<D: Dim> {
     /// instead of dividing per pair).
     current_volumes: Vec<f64>,
     accelerations: Vec<D::Vector>,
+    /// The energy budget's pressure-jump work per particle over a drift (empty otherwise).
+    jump_work: Vec<f64>,
     artificial: Vec<D::Matrix>,
     volumes: Vec<f64>,
     // Scene.
@@ -349,6 +358,7 @@ impl<D: Dim> UlSolver<D> {
             pressures: vec![0.0; n],
             current_volumes: vec![0.0; n],
             accelerations: vec![D::zero(); n],
+            jump_work: Vec::new(),
             artificial: if matches!(variant, Variant::Artificial { .. }) {
                 vec![D::zero_matrix(); n]
             } else {
@@ -612,8 +622,7 @@ impl<D: Dim> UlSolver<D> {
         self.constraints
             .apply_to_velocities(self.time, &mut self.velocities);
         self.update_pressures();
-        self.compute_rates();
-        self.max_speed = max_norm::<D>(&self.velocities, &self.free);
+        self.max_speed = self.compute_rates(None);
     }
 
     /// Eq. (4) for every particle.
@@ -627,38 +636,47 @@ impl<D: Dim> UlSolver<D> {
     }
 
     /// Step 4 of the module docs: continuity (eq 11), the Jaumann rate of `τ` (eq 6–8, 14/26)
-    /// and the ENOG rate (eq 19–20), in one gather over the neighbours.
-    fn compute_rates(&mut self) {
+    /// and the ENOG rate (eq 19–20), in one gather over the neighbours; returns `|v|max` over
+    /// the free particles. With `drift = Some((h, dt))` the same pass then applies eq 25 to
+    /// each particle with its new rates (`x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt`) and eq 20
+    /// (`A_s += dt dA_s/dt`): no particle's rates read another's `x`, `ρ`, `τ` or `A_s`, so
+    /// this is the same as a gather followed by those updates.
+    fn compute_rates(&mut self, drift: Option<(f64, f64)>) -> f64 {
         let grad = self.tracks_stress;
         let corrected = self.params.corrected_velocity_gradient
             || matches!(self.variant, Variant::NonNested { .. });
         match self.variant {
             Variant::NonNested { factor, form } => match (grad, form) {
                 (true, LaplacianForm::Conservative) => {
-                    self.rates_with_jump::<true, 1>(corrected, factor)
+                    self.rates_with_jump::<true, 1>(corrected, factor, drift)
                 }
                 (true, LaplacianForm::NonConservative) => {
-                    self.rates_with_jump::<true, 2>(corrected, factor)
+                    self.rates_with_jump::<true, 2>(corrected, factor, drift)
                 }
                 (false, LaplacianForm::Conservative) => {
-                    self.rates_with_jump::<false, 1>(corrected, factor)
+                    self.rates_with_jump::<false, 1>(corrected, factor, drift)
                 }
                 (false, LaplacianForm::NonConservative) => {
-                    self.rates_with_jump::<false, 2>(corrected, factor)
+                    self.rates_with_jump::<false, 2>(corrected, factor, drift)
                 }
             },
-            _ => self.rates_with_jump::<true, 0>(corrected, 0.0),
+            _ => self.rates_with_jump::<true, 0>(corrected, 0.0, drift),
         }
     }
 
     /// [`Self::rates_loop`] with or without the continuity equation's pressure jump: the
     /// solid schemes have none, and then the loop neither reads `p_j` nor multiplies zeros
     /// (the same bits: the skipped terms are all `±0` added to `+0`).
-    fn rates_with_jump<const GRAD: bool, const LAP: u8>(&mut self, corrected: bool, factor: f64) {
+    fn rates_with_jump<const GRAD: bool, const LAP: u8>(
+        &mut self,
+        corrected: bool,
+        factor: f64,
+        drift: Option<(f64, f64)>,
+    ) -> f64 {
         if continuity_has_jump(self.params.riemann) {
-            self.rates_loop::<GRAD, LAP, true>(corrected, factor)
+            self.rates_loop::<GRAD, LAP, true>(corrected, factor, drift)
         } else {
-            self.rates_loop::<GRAD, LAP, false>(corrected, factor)
+            self.rates_loop::<GRAD, LAP, false>(corrected, factor, drift)
         }
     }
 
@@ -668,54 +686,101 @@ impl<D: Dim> UlSolver<D> {
         &mut self,
         corrected: bool,
         factor: f64,
-    ) {
+        drift: Option<(f64, f64)>,
+    ) -> f64 {
+        let n = self.len();
+        // The energy budget's volumetric work of the pressure jump over the drift, per
+        // particle at its start (summed in index order below).
+        let jump_work = drift.is_some()
+            && self.params.energy_budget
+            && self.params.riemann == RiemannScheme::Paper;
+        self.jump_work.resize(if jump_work { n } else { 0 }, 0.0);
         let list = &self.list;
         let pairs = &self.pairs;
-        let (x_v, rho, vol, p, tau, b) = (
+        let (x_v, vol, p, b, m, free) = (
             &self.velocities,
-            &self.densities,
             &self.current_volumes,
             &self.pressures,
-            &self.stress,
             &self.correction,
+            &self.masses,
+            &self.free,
         );
-        let (g, rho0_c0, scheme) = (self.g, self.rho0 * self.c0, self.params.riemann);
-        gather(&mut self.rates, |i, out| {
-            let (v_i, p_i, rho_i) = (x_v[i], p[i], rho[i]);
-            let (mut drho, mut jump) = (0.0, 0.0);
-            let mut l = D::zero_matrix();
-            let mut lap = D::zero();
-            for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
-                let j = j as usize;
-                let v_j = vol[j];
-                let v_ij = v_i - x_v[j];
-                let u = D::dot(v_ij, pk.e);
-                drho += u * pk.dw * v_j;
-                if JUMP {
-                    jump += continuity_jump(p_i, p[j], rho0_c0, scheme) * pk.dw * v_j;
+        let (g, rho0, c0, scheme) = (self.g, self.rho0, self.c0, self.params.riemann);
+        let rho0_c0 = rho0 * c0;
+        let columns = (
+            &mut self.rates[..],
+            &mut self.positions[..],
+            &mut self.densities[..],
+            // Empty when ENOG's output-only stress is not integrated.
+            &mut self.stress[..],
+            // ENOG only.
+            &mut self.accumulated[..],
+            &mut self.jump_work[..],
+        );
+        let max_norm2 = fold_columns(n, columns, |rows, (r, x, rho, tau, a_s, jw)| {
+            let mut max_norm2 = 0.0;
+            for (k, i) in rows.enumerate() {
+                let out = &mut r[k];
+                let (v_i, p_i, rho_i) = (x_v[i], p[i], rho[k]);
+                let (mut drho, mut jump) = (0.0, 0.0);
+                let mut l = D::zero_matrix();
+                let mut lap = D::zero();
+                for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
+                    let j = j as usize;
+                    let v_j = vol[j];
+                    let v_ij = v_i - x_v[j];
+                    let u = D::dot(v_ij, pk.e);
+                    drho += u * pk.dw * v_j;
+                    if JUMP {
+                        jump += continuity_jump(p_i, p[j], rho0_c0, scheme) * pk.dw * v_j;
+                    }
+                    if GRAD {
+                        l += velocity_gradient_pair::<D>(v_ij, pk.e, pk.dw, v_j);
+                    }
+                    match LAP {
+                        1 => lap += conservative_laplacian_pair::<D>(v_ij, pk.e, pk.r, pk.dw, v_j),
+                        2 => lap += non_conservative_laplacian_pair::<D>(v_ij, pk.r, pk.dw, v_j),
+                        _ => {}
+                    }
                 }
+                // Eq 11: ρ_i Σ [u_ij + (p_i − p_j)/(ρ0 c0)] W′ V_j, the jump part kept apart.
+                out.density = rho_i * (drho + jump);
+                out.density_jump = rho_i * jump;
                 if GRAD {
-                    l += velocity_gradient_pair::<D>(v_ij, pk.e, pk.dw, v_j);
+                    if corrected {
+                        l = l * b[i];
+                    }
+                    out.stress = jaumann_rate::<D>(l, tau[k], g);
                 }
-                match LAP {
-                    1 => lap += conservative_laplacian_pair::<D>(v_ij, pk.e, pk.r, pk.dw, v_j),
-                    2 => lap += non_conservative_laplacian_pair::<D>(v_ij, pk.r, pk.dw, v_j),
-                    _ => {}
+                if LAP != 0 {
+                    out.shear = shear_acceleration_rate::<D>(lap, factor, g, rho_i);
                 }
-            }
-            // Eq 11: ρ_i Σ [u_ij + (p_i − p_j)/(ρ0 c0)] W′ V_j, the jump part kept apart.
-            out.density = rho_i * (drho + jump);
-            out.density_jump = rho_i * jump;
-            if GRAD {
-                if corrected {
-                    l = l * b[i];
+                if let Some((h, dt)) = drift {
+                    if !jw.is_empty() {
+                        jw[k] =
+                            m[i] * pressure(rho_i, rho0, c0) / (rho_i * rho_i) * out.density_jump;
+                    }
+                    x[k] += v_i * h;
+                    rho[k] += out.density * h;
+                    if !tau.is_empty() {
+                        tau[k] += out.stress * h;
+                    }
+                    if !a_s.is_empty() {
+                        a_s[k] += out.shear * dt;
+                    }
                 }
-                out.stress = jaumann_rate::<D>(l, tau[i], g);
+                let v2 = if free[i] { D::norm_squared(v_i) } else { 0.0 };
+                max_norm2 = diagnostics::max_or_nan(max_norm2, v2);
             }
-            if LAP != 0 {
-                out.shear = shear_acceleration_rate::<D>(lap, factor, g, rho_i);
-            }
+            max_norm2
         });
+        if let Some((h, _)) = drift.filter(|_| jump_work) {
+            self.work.density_jump += h * self.jump_work.iter().sum::<f64>();
+        }
+        max_norm2
+            .into_iter()
+            .fold(0.0, diagnostics::max_or_nan)
+            .sqrt()
     }
 
     /// Internal accelerations of the current state (pressure from `ρ`; the variant's shear
@@ -843,20 +908,20 @@ impl<D: Dim> UlSolver<D> {
     /// diagnostics).
     pub fn evaluate_density_rates(&mut self) -> Vec<f64> {
         self.update_pressures();
-        self.compute_rates();
+        self.compute_rates(None);
         self.rates.iter().map(|r| r.density).collect()
     }
 
     /// One acoustic step of length `dt` (eq 23–25), see the module documentation.
     fn acoustic_step(&mut self, dt: f64) {
         let half = 0.5 * dt;
-        // Eq 23: x, ρ (and τ) to the half step with the previous rates.
-        self.drift(half);
+        // Eq 23 and 4: x, ρ (and τ) to the half step with the previous rates, p and V of the
+        // new ρ.
+        self.drift_and_pressures(half);
         if self.params.refresh_kernel_data {
             self.refresh_pair_kernels();
         }
-        // Eq 4, forces, loads, constraints.
-        self.update_pressures();
+        // Forces, loads, constraints.
         self.compute_forces();
         if !self.loads.is_empty() {
             if self.load_accelerations.is_empty() {
@@ -881,10 +946,10 @@ impl<D: Dim> UlSolver<D> {
             }
         }
         if !self.constraints.is_empty() {
-            let before = self.mass_weighted_sum(&self.accelerations);
-            self.constraints
-                .apply_to_accelerations(&mut self.accelerations);
-            self.constraint_impulse += (before - self.mass_weighted_sum(&self.accelerations)) * dt;
+            let removed = self
+                .constraints
+                .apply_to_accelerations_removed_force(&mut self.accelerations, &self.masses);
+            self.constraint_impulse += removed * dt;
         }
         if self.params.energy_budget {
             self.accumulate_work(dt);
@@ -895,25 +960,12 @@ impl<D: Dim> UlSolver<D> {
         self.time += dt;
         self.constraints
             .apply_to_velocities(self.time, &mut self.velocities);
-        // Rates with v^{n+1}, then eq 25.
-        self.compute_rates();
-        self.drift(half);
-        // Eq 20: accumulate A_s (never reset); used by the next step.
-        if !self.accumulated.is_empty() {
-            let rates = &self.rates;
-            gather(&mut self.accumulated, |i, a| *a += rates[i].shear * dt);
-        }
-        self.max_speed = max_norm::<D>(&self.velocities, &self.free);
+        // Rates with v^{n+1}, then eq 25 and eq 20 (A_s accumulated, never reset; used by the
+        // next step), in the same pass.
+        self.max_speed = self.compute_rates(Some((half, dt)));
         self.acoustic_steps += 1;
         self.pair_visits +=
             (self.list.num_pairs() + self.contact.as_ref().map_or(0, |c| c.num_pairs())) as u64;
-    }
-
-    /// `Σ m_i a_i` (serial, deterministic).
-    fn mass_weighted_sum(&self, a: &[D::Vector]) -> D::Vector {
-        a.iter()
-            .zip(&self.masses)
-            .fold(D::zero(), |s, (&a, &m)| s + a * m)
     }
 
     /// Adds the work of this step's force parts to the budget (before the kick; see
@@ -949,13 +1001,14 @@ impl<D: Dim> UlSolver<D> {
         self.work.loads += loads;
     }
 
-    /// `x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt` (eq 23 and 25), element-wise on the team
-    /// (a hand-off to its spinning helper costs less than these loops).
-    fn drift(&mut self, h: f64) {
+    /// Eq 23: `x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt` with the rates of the last step, then
+    /// eq 4 (`p` and `V = m/ρ` of the new `ρ`), element-wise in one pass on the team (the
+    /// drift of the step's second half is part of [`Self::compute_rates`]).
+    fn drift_and_pressures(&mut self, h: f64) {
+        let (rho0, c0) = (self.rho0, self.c0);
         if self.params.energy_budget && self.params.riemann == RiemannScheme::Paper {
             // The volumetric-energy change the pressure jump makes over this drift
             // (Σ m p/ρ² ρ̇_jump h at the start of the drift).
-            let (rho0, c0) = (self.rho0, self.c0);
             self.work.density_jump += h * self
                 .densities
                 .iter()
@@ -964,15 +1017,26 @@ impl<D: Dim> UlSolver<D> {
                 .map(|((&rho, &m), r)| m * pressure(rho, rho0, c0) / (rho * rho) * r.density_jump)
                 .sum::<f64>();
         }
-        let (v, rates) = (&self.velocities, &self.rates);
-        gather2(&mut self.positions, &mut self.densities, |i, x, rho| {
-            *x += v[i] * h;
-            *rho += rates[i].density * h;
+        let (n, v, rates, m) = (self.len(), &self.velocities, &self.rates, &self.masses);
+        let columns = (
+            &mut self.positions[..],
+            &mut self.densities[..],
+            // Empty when ENOG's output-only stress is not integrated.
+            &mut self.stress[..],
+            &mut self.pressures[..],
+            &mut self.current_volumes[..],
+        );
+        gather_columns(n, columns, |rows, (x, rho, tau, p, vol)| {
+            for (k, i) in rows.enumerate() {
+                x[k] += v[i] * h;
+                rho[k] += rates[i].density * h;
+                if !tau.is_empty() {
+                    tau[k] += rates[i].stress * h;
+                }
+                p[k] = pressure(rho[k], rho0, c0);
+                vol[k] = m[i] / rho[k];
+            }
         });
-        // Empty when ENOG's output-only stress is not integrated.
-        if !self.stress.is_empty() {
-            gather(&mut self.stress, |i, t| *t += rates[i].stress * h);
-        }
     }
 
     fn record_if_due(&mut self) {
@@ -1259,7 +1323,7 @@ impl<D: Dim> UlSolver<D> {
 const AXES: [&str; 3] = ["x", "y", "z"];
 
 pub(crate) use sph_core::parallel::gather;
-use sph_core::parallel::gather2;
+use sph_core::parallel::{fold_columns, gather2, gather_columns};
 
 /// Checks a per-particle array: length `n` (or empty if `optional`), every entry finite and > 0.
 fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Result<(), Error> {
@@ -1279,17 +1343,6 @@ fn check_per_particle(field: &str, v: &[f64], n: usize, optional: bool) -> Resul
         ));
     }
     Ok(())
-}
-
-/// Largest `|v|` over the free particles; NaN if any is NaN (so the time-step guard sees it).
-fn max_norm<D: Dim>(v: &[D::Vector], free: &[bool]) -> f64 {
-    let norm2 = |i: usize| if free[i] { D::norm_squared(v[i]) } else { 0.0 };
-    sph_core::parallel::fold_chunks(v.len(), |rows| {
-        rows.map(norm2).fold(0.0, diagnostics::max_or_nan)
-    })
-    .into_iter()
-    .fold(0.0, diagnostics::max_or_nan)
-    .sqrt()
 }
 
 impl<D: Dim> Solver<D> for UlSolver<D> {
