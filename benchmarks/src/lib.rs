@@ -185,6 +185,28 @@ impl BenchRecord {
     }
 }
 
+/// The machine timings are taken on: the CPU model of `/proc/cpuinfo` and the hardware thread
+/// count, e.g. "Intel(R) Xeon(R) Processor, 2 hardware threads". Recorded with every timing,
+/// because a ratio of two wall times means something only when both were taken on the same
+/// machine.
+pub fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    format!("{cpu}, {cores} hardware threads")
+}
+
+/// Where timings recorded before they carried their machine were taken: docs/performance.md
+/// of that time names it ("Machine: AMD EPYC, 2 hardware threads").
+pub const EARLIER_MACHINE: &str = "AMD EPYC, 2 hardware threads";
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -297,6 +297,7 @@ fn main() {
                 scene.args.join(" ")
             );
             rows.push(json!({
+                "machine": sph_benchmarks::machine(),
                 "group": scene.group,
                 "label": scene.label,
                 "command": command,
