@@ -57,7 +57,8 @@ pub fn mps_params() -> Vec<Param> {
             d.stabilisation,
             Range::Closed(0.0, 100.0),
             "strength α of the Hamiltonian stabilisation (penalty potential on the residual of \
-             the WLS fit, stiffness α μ; beyond the paper); 0 = the paper's model",
+             the WLS fit, stiffness α μ; beyond the paper); 0 = the paper's model, 3 = the \
+             strength docs/validation.md recommends",
         ),
     ];
     v.extend(crate::runner::output_params());

@@ -10,8 +10,8 @@
 //! holds `v_y = 0`, which makes the four corners where the free surface meets a strip
 //! re-entrant corners of a sideways-clamped slab. With either grip plane-strain SVK gives out
 //! long before the paper's t = 0.5 s (measured at H/dp = 20, MPS, a particle inverts: roller
-//! at t = 0.157 s without and 0.161 s with `stabilisation = 0.3`, rigid at 0.134 s and
-//! 0.177 s; `validate mps`, docs/validation.md).
+//! at t = 0.157 s without and 0.168 s with `stabilisation = 3`, rigid at 0.134 s and
+//! 0.360 s (the latter disordered, max e 1.4); `validate mps`, docs/validation.md).
 //!
 //! Resolution: the paper's 11,594 particles are 187 × 62 (dp ≈ 1.6e-4); we default to
 //! `resolution = H/dp = 62`, 186 × 62 = 11,532 particles, so both sides are whole numbers of
