@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Finite-element reference of the punching and pulling strips (validation/fem/README.md).
-# Installs the pinned Python tools (setup.sh), then runs both scripts under `nice`, writing
-# validation/results/fem-punching.json and validation/results/fem-pulling.json.
+# Finite-element references (validation/fem/README.md): the punching and pulling strips and the
+# oscillating plate's small-amplitude period. Installs the pinned Python tools (setup.sh), then
+# runs the three scripts under `nice`, writing validation/results/fem-punching.json,
+# validation/results/fem-pulling.json and validation/results/fem-plate-modes.json.
 # Optional tool: without Python or the packages it prints a notice and exits 0.
-# Extra arguments (e.g. --quick) are passed to both scripts.
+# Extra arguments (e.g. --quick) are passed to every script.
 set -u
 HERE="$(cd "$(dirname "$0")" && pwd)"
 PY="${PYTHON:-python3}"
@@ -17,4 +18,5 @@ cd "$HERE/../.."
 start=$(date +%s)
 nice -n 10 "$PY" validation/fem/pulling.py "$@"
 nice -n 10 "$PY" validation/fem/punching.py "$@"
+nice -n 10 "$PY" validation/fem/plate_modes.py "$@"
 echo "fem reference: done in $(( $(date +%s) - start )) s"

@@ -8,6 +8,7 @@
 pub mod cost;
 pub mod extreme;
 pub mod features;
+pub mod fem_plate;
 pub mod frames;
 pub mod h5report;
 pub mod hertz;

@@ -4,7 +4,7 @@
 //! as a user runs it ([`crate::cost`]: 2 threads, no output, CPU seconds and peak memory of the
 //! `sph` process, and the machine-independent work `pair_visits` = neighbour pairs visited by
 //! the force evaluations). The error of each run against a reference that does not depend on
-//! that run: a closed form where one exists, otherwise a Richardson extrapolation (stated per
+//! that run: a closed form where one exists, otherwise an independent finite-element solution (stated per
 //! scene).
 //!
 //! **Stability map.** A severity parameter swept per scene and method; each cell is ordered
@@ -234,9 +234,20 @@ fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
 
 /// The value a run is judged by: the measured quantity (extrapolated scenes) or the signed
 /// relative error.
-fn value_of(r: &CostedRun, m: Measure) -> Option<f64> {
+/// The run's relative error under `m` (for [`Measure::FiniteElement`] against the FE period of
+/// `method`'s own small-strain law).
+fn value_of(r: &CostedRun, m: Measure, method: &str) -> Option<f64> {
     match m {
-        Measure::Extrapolated { num, .. } => r.num(num),
+        Measure::FiniteElement {
+            num,
+            clamp,
+            thickness,
+            nu,
+        } => {
+            let reference =
+                crate::fem_plate::period(crate::fem_plate::law_of(method), clamp, thickness, nu)?;
+            Some(r.num(num)? / reference - 1.0)
+        }
         Measure::ClosedForm { num, den } => Some(r.num(num)? / r.num(den)? - 1.0),
         Measure::Error { key } => r.num(key),
     }
@@ -339,52 +350,16 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
     let series_of = |label: &str| -> Vec<(f64, f64)> {
         runs.iter()
             .filter(|(l, _, run)| l.label == label && run.exit_code == 0)
-            .filter_map(|(_, r, run)| Some((spacing(scene, *r), value_of(run, scene.measure)?)))
+            .filter_map(|(l, r, run)| {
+                Some((spacing(scene, *r), value_of(run, scene.measure, l.method)?))
+            })
             .collect()
     };
-    let reference = match scene.measure {
-        Measure::Extrapolated { reference_line, .. } => {
-            let line = series_of(reference_line);
-            let fit = richardson(&line);
-            let finest = line.iter().min_by(|a, b| a.0.total_cmp(&b.0)).map(|p| p.1);
-            match (fit, finest) {
-                (Some((f, p)), _) => {
-                    writeln!(
-                        md,
-                        "Reference value: {f:.5} ({reference_line}, fitted order {p:.2}).\n"
-                    )
-                    .unwrap();
-                    Some(f)
-                }
-                (None, Some(f)) => {
-                    writeln!(
-                        md,
-                        "Reference value: {f:.5}, the finest {reference_line} run: its stored \
-                         resolutions do not converge monotonically, so there is no Richardson \
-                         extrapolation yet (run the full set). Errors of the other runs are \
-                         relative to it; the reference run's own error shows as zero and is \
-                         left out of the plot.\n"
-                    )
-                    .unwrap();
-                    Some(f)
-                }
-                (None, None) => {
-                    writeln!(md, "No reference yet: no {reference_line} run is stored.\n").unwrap();
-                    None
-                }
-            }
-        }
-        _ => None,
-    };
-    let error_of = |run: &CostedRun| -> Option<f64> {
+    let error_of = |run: &CostedRun, method: &str| -> Option<f64> {
         if run.exit_code != 0 {
             return None;
         }
-        let v = value_of(run, scene.measure)?;
-        match scene.measure {
-            Measure::Extrapolated { .. } => Some(v / reference? - 1.0),
-            _ => Some(v),
-        }
+        value_of(run, scene.measure, method)
     };
     let points: Vec<Point> = runs
         .iter()
@@ -395,7 +370,7 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
             wall: run.wall_seconds,
             work: run.work().unwrap_or(f64::NAN),
             rss: run.max_rss_mib,
-            error: error_of(run),
+            error: error_of(run, l.method),
             disorder: run.num("max_disorder"),
             status: run.status(),
             command: run.command.clone(),
@@ -493,7 +468,7 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
     // Observed order and own limit per line.
     writeln!(
         md,
-        "| method | observed order | own limit (Richardson) | finest error |\n|---|---|---|---|"
+        "| method | observed order | reference | finest error |\n|---|---|---|---|"
     )
     .unwrap();
     for l in &scene.lines {
@@ -501,22 +476,19 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
         if s.is_empty() {
             continue;
         }
-        let (order, limit) = match scene.measure {
-            Measure::Extrapolated { .. } => match richardson(&s) {
-                Some((f, p)) => (format!("{p:.2}"), format!("{f:.5}")),
-                None => ("not monotone / < 3 points".into(), "–".into()),
-            },
-            _ => (
-                slope_order(&s).map_or("–".into(), |p| {
-                    let n = if s.len() < 3 { " (from 2 points)" } else { "" };
-                    if p > 0.0 {
-                        format!("{p:.2}{n}")
-                    } else {
-                        format!("{p:.2} (error grows with resolution){n}")
-                    }
-                }),
-                "(closed form)".into(),
-            ),
+        let order = slope_order(&s).map_or("–".into(), |p| {
+            let n = if s.len() < 3 { " (from 2 points)" } else { "" };
+            if p > 0.0 {
+                format!("{p:.2}{n}")
+            } else {
+                format!("{p:.2} (error grows with resolution){n}")
+            }
+        });
+        let limit = match scene.measure {
+            Measure::FiniteElement { .. } => {
+                format!("(FE, {})", crate::fem_plate::law_of(l.method))
+            }
+            _ => "(closed form)".into(),
         };
         let finest = points
             .iter()
