@@ -417,7 +417,7 @@ fn sphinxsys_reference(root: &Path) -> (Vec<Reference>, Vec<String>) {
     (rows, how)
 }
 
-/// The machine a results row was measured on (rows from before the field: [`EARLIER_MACHINE`]).
+/// The machine a results row was measured on (rows from before the field: [`sph_benchmarks::EARLIER_MACHINE`]).
 fn row_machine(r: &serde_json::Value) -> String {
     r["machine"]
         .as_str()
