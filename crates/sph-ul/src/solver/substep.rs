@@ -1,0 +1,555 @@
+//! The work of one advection step: the neighbour rebuild (with cell-order reordering, the
+//! kernel data and the correction matrix) and the acoustic sub-step of eq 23–25 with its
+//! gathers (rates, forces) and element-wise passes; the module docs of [`super`] list the
+//! order.
+
+use super::*;
+
+impl<D: Dim> UlSolver<D> {
+    /// Rebuild at the start of an advection step: cell list, reordering in cell order (applied
+    /// to every per-particle field, constraints, loads and probes), neighbour list, frozen
+    /// kernel data and the correction matrix `B` (eq 27).
+    pub(super) fn rebuild(&mut self) -> Result<(), Error> {
+        let cutoff = self.kernel.cutoff();
+        let mut grid = CellGrid::<D>::build(&self.positions, cutoff)?;
+        if self.params.reorder {
+            let perm = grid.cell_order();
+            if perm.iter().enumerate().any(|(k, &o)| k as u32 != o) {
+                let perm = perm.to_vec();
+                self.permute(&perm);
+                grid = CellGrid::<D>::build(&self.positions, cutoff)?;
+            }
+        }
+        self.list = grid.neighbor_list(&self.positions, cutoff)?;
+        if let Some(contact) = &mut self.contact {
+            self.list = contact.split(&self.list)?;
+        }
+        let n = self.len();
+        if let Some(i) = (0..n).find(|&i| self.list.count(i) == 0) {
+            if !self.params.allow_isolated {
+                return Err(Error::LostNeighbours {
+                    particle: self.original_index[i] as usize,
+                    step: self.steps,
+                    time: self.time,
+                });
+            }
+            self.first_isolation.get_or_insert(self.time);
+        }
+        self.isolated = 0;
+        for i in 0..n {
+            if self.list.count(i) == 0 {
+                self.isolated += 1;
+                // A particle without neighbours has no shear force: ENOG's never-reset
+                // accumulator (eq 20) would otherwise keep pushing a fragment for ever.
+                if let Some(a) = self.accumulated.get_mut(i) {
+                    *a = D::zero();
+                }
+            }
+        }
+        self.isolated_max = self.isolated_max.max(self.isolated);
+        let zero = PairKernel::<D> {
+            e: D::zero(),
+            r: 0.0,
+            w: 0.0,
+            dw: 0.0,
+        };
+        self.pairs.resize(self.list.num_pairs(), zero);
+        self.halves = PairSymmetry::new(&self.list);
+        self.refresh_pair_kernels();
+        if let Some(k) = self.pairs.iter().position(|p| p.r <= 0.0) {
+            let i = self.list.offsets().partition_point(|&o| o <= k) - 1;
+            return Err(Error::invalid(
+                "positions",
+                format!(
+                    "particle {} coincides with a neighbour",
+                    self.original_index[i]
+                ),
+                "distinct positions",
+            ));
+        }
+        self.volumes
+            .iter_mut()
+            .zip(&self.masses)
+            .zip(&self.densities)
+            .for_each(|((v, &m), &rho)| *v = m / rho);
+        let corr = correction_matrices::<D>(
+            &self.list,
+            &self.pairs,
+            &self.volumes,
+            self.params.correction_min_eigenvalue,
+        )?;
+        self.correction = corr.matrices;
+        self.guarded = corr.guarded;
+        self.rebuild_positions.clear();
+        self.rebuild_positions.extend_from_slice(&self.positions);
+        self.rebuilds += 1;
+        Ok(())
+    }
+
+    /// `pairs` from the current positions: each unordered pair computed once when the list
+    /// has its two halves (always, for a self list), bit for bit the plain fill otherwise.
+    fn refresh_pair_kernels(&mut self) {
+        match &self.halves {
+            Some(halves) => halves.fill(&self.positions, &self.list, &self.kernel, &mut self.pairs),
+            None => fill_pair_kernels(
+                &self.positions,
+                &self.positions,
+                &self.list,
+                &self.kernel,
+                &mut self.pairs,
+            ),
+        }
+    }
+
+    /// Applies `perm[new] = old` to every per-particle field and relabels the scene.
+    pub(super) fn permute(&mut self, perm: &[u32]) {
+        fn p<T: Clone>(perm: &[u32], v: &mut Vec<T>) {
+            if !v.is_empty() {
+                *v = apply_permutation(perm, v);
+            }
+        }
+        p(perm, &mut self.positions);
+        p(perm, &mut self.velocities);
+        p(perm, &mut self.densities);
+        p(perm, &mut self.masses);
+        p(perm, &mut self.stress);
+        p(perm, &mut self.accumulated);
+        p(perm, &mut self.rates);
+        p(perm, &mut self.initial_positions);
+        p(perm, &mut self.original_index);
+        if let Some(c) = &mut self.contact {
+            c.permute(perm);
+        }
+        p(perm, &mut self.free);
+        p(perm, &mut self.accelerations);
+        let inv = invert_permutation(perm);
+        self.constraints.remap(&inv);
+        self.loads.remap(&inv);
+        for probe in &mut self.probes {
+            probe.remap(&inv);
+        }
+    }
+
+    /// Applies the velocity constraints and recomputes the rates and `|v|max` (after a state
+    /// change).
+    pub(super) fn refresh_rates(&mut self) {
+        self.constraints
+            .apply_to_velocities(self.time, &mut self.velocities);
+        self.update_pressures();
+        self.max_speed = self.compute_rates(None);
+    }
+
+    /// Eq. (4) for every particle.
+    fn update_pressures(&mut self) {
+        let (rho0, c0) = (self.rho0, self.c0);
+        let (rho, m) = (&self.densities, &self.masses);
+        gather2(&mut self.pressures, &mut self.current_volumes, |i, p, v| {
+            *p = pressure(rho[i], rho0, c0);
+            *v = m[i] / rho[i];
+        });
+    }
+
+    /// Step 4 of the module docs: continuity (eq 11), the Jaumann rate of `τ` (eq 6–8, 14/26)
+    /// and the ENOG rate (eq 19–20), in one gather over the neighbours; returns `|v|max` over
+    /// the free particles. With `drift = Some((h, dt))` the same pass then applies eq 25 to
+    /// each particle with its new rates (`x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt`) and eq 20
+    /// (`A_s += dt dA_s/dt`): no particle's rates read another's `x`, `ρ`, `τ` or `A_s`, so
+    /// this is the same as a gather followed by those updates.
+    pub(super) fn compute_rates(&mut self, drift: Option<(f64, f64)>) -> f64 {
+        let grad = self.tracks_stress;
+        let corrected = self.params.corrected_velocity_gradient
+            || matches!(self.variant, Variant::NonNested { .. });
+        match self.variant {
+            Variant::NonNested { factor, form } => match (grad, form) {
+                (true, LaplacianForm::Conservative) => {
+                    self.rates_with_jump::<true, 1>(corrected, factor, drift)
+                }
+                (true, LaplacianForm::NonConservative) => {
+                    self.rates_with_jump::<true, 2>(corrected, factor, drift)
+                }
+                (false, LaplacianForm::Conservative) => {
+                    self.rates_with_jump::<false, 1>(corrected, factor, drift)
+                }
+                (false, LaplacianForm::NonConservative) => {
+                    self.rates_with_jump::<false, 2>(corrected, factor, drift)
+                }
+            },
+            _ => self.rates_with_jump::<true, 0>(corrected, 0.0, drift),
+        }
+    }
+
+    /// [`Self::rates_loop`] with or without the continuity equation's pressure jump: the
+    /// solid schemes have none, and then the loop neither reads `p_j` nor multiplies zeros
+    /// (the same bits: the skipped terms are all `±0` added to `+0`).
+    fn rates_with_jump<const GRAD: bool, const LAP: u8>(
+        &mut self,
+        corrected: bool,
+        factor: f64,
+        drift: Option<(f64, f64)>,
+    ) -> f64 {
+        if continuity_has_jump(self.params.riemann) {
+            self.rates_loop::<GRAD, LAP, true>(corrected, factor, drift)
+        } else {
+            self.rates_loop::<GRAD, LAP, false>(corrected, factor, drift)
+        }
+    }
+
+    /// The gather of [`Self::compute_rates`]; `GRAD`: velocity gradient and Jaumann rate;
+    /// `LAP`: 0 none, 1 eq 19, 2 eq 18; `JUMP`: the scheme's pressure jump in eq 11.
+    fn rates_loop<const GRAD: bool, const LAP: u8, const JUMP: bool>(
+        &mut self,
+        corrected: bool,
+        factor: f64,
+        drift: Option<(f64, f64)>,
+    ) -> f64 {
+        let n = self.len();
+        // The energy budget's volumetric work of the pressure jump over the drift, per
+        // particle at its start (summed in index order below).
+        let jump_work = drift.is_some()
+            && self.params.energy_budget
+            && self.params.riemann == RiemannScheme::Paper;
+        self.jump_work.resize(if jump_work { n } else { 0 }, 0.0);
+        let list = &self.list;
+        let pairs = &self.pairs;
+        let (x_v, vol, p, b, m, free) = (
+            &self.velocities,
+            &self.current_volumes,
+            &self.pressures,
+            &self.correction,
+            &self.masses,
+            &self.free,
+        );
+        let (g, rho0, c0, scheme) = (self.g, self.rho0, self.c0, self.params.riemann);
+        let rho0_c0 = rho0 * c0;
+        let columns = (
+            &mut self.rates[..],
+            &mut self.positions[..],
+            &mut self.densities[..],
+            // Empty when ENOG's output-only stress is not integrated.
+            &mut self.stress[..],
+            // ENOG only.
+            &mut self.accumulated[..],
+            &mut self.jump_work[..],
+        );
+        let max_norm2 = fold_columns(n, columns, |rows, (r, x, rho, tau, a_s, jw)| {
+            let mut max_norm2 = 0.0;
+            for (k, i) in rows.enumerate() {
+                let out = &mut r[k];
+                let (v_i, p_i, rho_i) = (x_v[i], p[i], rho[k]);
+                let (mut drho, mut jump) = (0.0, 0.0);
+                let mut l = D::zero_matrix();
+                let mut lap = D::zero();
+                for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
+                    let j = j as usize;
+                    let v_j = vol[j];
+                    let v_ij = v_i - x_v[j];
+                    let u = D::dot(v_ij, pk.e);
+                    drho += u * pk.dw * v_j;
+                    if JUMP {
+                        jump += continuity_jump(p_i, p[j], rho0_c0, scheme) * pk.dw * v_j;
+                    }
+                    if GRAD {
+                        l += velocity_gradient_pair::<D>(v_ij, pk.e, pk.dw, v_j);
+                    }
+                    match LAP {
+                        1 => lap += conservative_laplacian_pair::<D>(v_ij, pk.e, pk.r, pk.dw, v_j),
+                        2 => lap += non_conservative_laplacian_pair::<D>(v_ij, pk.r, pk.dw, v_j),
+                        _ => {}
+                    }
+                }
+                // Eq 11: ρ_i Σ [u_ij + (p_i − p_j)/(ρ0 c0)] W′ V_j, the jump part kept apart.
+                out.density = rho_i * (drho + jump);
+                out.density_jump = rho_i * jump;
+                if GRAD {
+                    if corrected {
+                        l = l * b[i];
+                    }
+                    out.stress = jaumann_rate::<D>(l, tau[k], g);
+                }
+                if LAP != 0 {
+                    out.shear = shear_acceleration_rate::<D>(lap, factor, g, rho_i);
+                }
+                if let Some((h, dt)) = drift {
+                    if !jw.is_empty() {
+                        jw[k] =
+                            m[i] * pressure(rho_i, rho0, c0) / (rho_i * rho_i) * out.density_jump;
+                    }
+                    x[k] += v_i * h;
+                    rho[k] += out.density * h;
+                    if !tau.is_empty() {
+                        tau[k] += out.stress * h;
+                    }
+                    if !a_s.is_empty() {
+                        a_s[k] += out.shear * dt;
+                    }
+                }
+                let v2 = if free[i] { D::norm_squared(v_i) } else { 0.0 };
+                max_norm2 = diagnostics::max_or_nan(max_norm2, v2);
+            }
+            max_norm2
+        });
+        if let Some((h, _)) = drift.filter(|_| jump_work) {
+            self.work.density_jump += h * self.jump_work.iter().sum::<f64>();
+        }
+        max_norm2
+            .into_iter()
+            .fold(0.0, diagnostics::max_or_nan)
+            .sqrt()
+    }
+
+    /// Internal accelerations of the current state (pressure from `ρ`; the variant's shear
+    /// term) into `self.accelerations`: step 2 of the module docs without loads or
+    /// constraints.
+    fn compute_forces(&mut self) {
+        let mut out = std::mem::take(&mut self.accelerations);
+        let mut parts = std::mem::take(&mut self.budget_parts);
+        match self.variant {
+            Variant::Original => {
+                self.forces_loop(NestedShear { tau: &self.stress }, &mut out, &mut parts)
+            }
+            Variant::Artificial {
+                epsilon,
+                n,
+                inv_w_dp,
+            } => {
+                let (tau, p, rho) = (&self.stress, &self.pressures, &self.densities);
+                gather(&mut self.artificial, |i, r| {
+                    let sigma = tau[i] - D::identity() * p[i];
+                    *r = artificial_stress::artificial_stress::<D>(sigma, rho[i], epsilon);
+                });
+                self.forces_loop(
+                    ArtificialShear {
+                        tau: &self.stress,
+                        r: &self.artificial,
+                        masses: &self.masses,
+                        // With refreshed kernel data `W` is already the current one.
+                        positions: (!self.params.refresh_kernel_data)
+                            .then_some(&self.positions[..]),
+                        kernel: &self.kernel,
+                        inv_w_dp,
+                        n,
+                    },
+                    &mut out,
+                    &mut parts,
+                );
+            }
+            Variant::NonNested { .. } => self.forces_loop(
+                AccumulatedShear {
+                    a_s: &self.accumulated,
+                },
+                &mut out,
+                &mut parts,
+            ),
+        }
+        self.budget_parts = parts;
+        if let Some(contact) = &mut self.contact {
+            contact.add_accelerations(
+                &self.positions,
+                &self.masses,
+                &self.densities,
+                &self.kernel,
+                &mut out,
+            );
+        }
+        self.accelerations = out;
+    }
+
+    /// The force gather: Riemann pressure (eq 12) plus the shear term `S`; with the energy
+    /// budget also the dissipative part of the pressure and the artificial stress per particle.
+    /// `parts` is empty when the budget is off.
+    fn forces_loop<S: ShearForce<D>>(
+        &self,
+        shear: S,
+        out: &mut [D::Vector],
+        parts: &mut [[D::Vector; 2]],
+    ) {
+        if parts.is_empty() {
+            gather(out, |i, a| *a = self.force_sum::<S, false>(&shear, i).0);
+        } else {
+            gather2(out, parts, |i, a, b| {
+                (*a, *b) = self.force_sum::<S, true>(&shear, i);
+            });
+        }
+    }
+
+    /// `a_i` of [`Self::forces_loop`] and, with `BUDGET`, the Riemann-dissipation and
+    /// artificial-stress parts of it.
+    #[inline(always)]
+    fn force_sum<S: ShearForce<D>, const BUDGET: bool>(
+        &self,
+        shear: &S,
+        i: usize,
+    ) -> (D::Vector, [D::Vector; 2]) {
+        let (vel, rho, vol, p) = (
+            &self.velocities,
+            &self.densities,
+            &self.current_volumes,
+            &self.pressures,
+        );
+        let (rho0, c0, scheme) = (self.rho0, self.c0, self.params.riemann);
+        let (v_i, p_i, inv_rho_i) = (vel[i], p[i], 1.0 / rho[i]);
+        let mut acc = D::zero();
+        let mut parts = [D::zero(); 2];
+        for (pk, &j) in self.pairs[self.list.range(i)]
+            .iter()
+            .zip(self.list.neighbors(i))
+        {
+            let j = j as usize;
+            let vj_rho_i = vol[j] * inv_rho_i;
+            let u = D::dot(v_i - vel[j], pk.e);
+            let p_diss = dissipative_pressure(u, rho0, c0, scheme);
+            let p_star = 0.5 * (p_i + p[j]) + p_diss;
+            acc += pk.e * pressure_pair_factor(p_star, pk.dw, vj_rho_i);
+            let (elastic, artificial) = shear.pair(i, j, pk, vj_rho_i);
+            acc += elastic + artificial;
+            if BUDGET {
+                parts[0] += pk.e * pressure_pair_factor(p_diss, pk.dw, vj_rho_i);
+                parts[1] += artificial;
+            }
+        }
+        (acc + shear.particle(i), parts)
+    }
+
+    /// Accelerations of the current state, without loads or constraints: the force evaluation
+    /// of one acoustic step, exposed for tests and diagnostics.
+    pub fn evaluate_accelerations(&mut self) -> &[D::Vector] {
+        self.update_pressures();
+        self.compute_forces();
+        &self.accelerations
+    }
+
+    /// Density rates `dρ/dt` (eq 11) of the current state (allocates; for tests and
+    /// diagnostics).
+    pub fn evaluate_density_rates(&mut self) -> Vec<f64> {
+        self.update_pressures();
+        self.compute_rates(None);
+        self.rates.iter().map(|r| r.density).collect()
+    }
+
+    /// One acoustic step of length `dt` (eq 23–25), see the module documentation.
+    pub(super) fn acoustic_step(&mut self, dt: f64) {
+        let half = 0.5 * dt;
+        // Eq 23 and 4: x, ρ (and τ) to the half step with the previous rates, p and V of the
+        // new ρ.
+        self.drift_and_pressures(half);
+        if self.params.refresh_kernel_data {
+            self.refresh_pair_kernels();
+        }
+        // Forces, loads, constraints.
+        self.compute_forces();
+        if !self.loads.is_empty() {
+            if self.load_accelerations.is_empty() {
+                self.loads.add_accelerations(
+                    self.time + half,
+                    &self.masses,
+                    &mut self.accelerations,
+                );
+            } else {
+                self.load_accelerations
+                    .iter_mut()
+                    .for_each(|a| *a = D::zero());
+                self.loads.add_accelerations(
+                    self.time + half,
+                    &self.masses,
+                    &mut self.load_accelerations,
+                );
+                self.accelerations
+                    .iter_mut()
+                    .zip(&self.load_accelerations)
+                    .for_each(|(a, &l)| *a += l);
+            }
+        }
+        if !self.constraints.is_empty() {
+            let removed = self
+                .constraints
+                .apply_to_accelerations_removed_force(&mut self.accelerations, &self.masses);
+            self.constraint_impulse += removed * dt;
+        }
+        if self.params.energy_budget {
+            self.accumulate_work(dt);
+        }
+        // Eq 24.
+        let acc = &self.accelerations;
+        gather(&mut self.velocities, |i, v| *v += acc[i] * dt);
+        self.time += dt;
+        self.constraints
+            .apply_to_velocities(self.time, &mut self.velocities);
+        // Rates with v^{n+1}, then eq 25 and eq 20 (A_s accumulated, never reset; used by the
+        // next step), in the same pass.
+        self.max_speed = self.compute_rates(Some((half, dt)));
+        self.acoustic_steps += 1;
+        self.pair_visits +=
+            (self.list.num_pairs() + self.contact.as_ref().map_or(0, |c| c.num_pairs())) as u64;
+    }
+
+    /// Adds the work of this step's force parts to the budget (before the kick; see
+    /// [`crate::energy`]).
+    fn accumulate_work(&mut self, dt: f64) {
+        let (a, v, m) = (&self.accelerations, &self.velocities, &self.masses[..]);
+        let (parts, a_s, loads) = (
+            &self.budget_parts,
+            &self.accumulated,
+            &self.load_accelerations,
+        );
+        let contact = self.contact.as_ref().map(|c| &c.accelerations[..]);
+        let or_zero = |x: &[D::Vector], i: usize| x.get(i).copied().unwrap_or(D::zero());
+        let [riemann, artificial, contact, shear, loads] = step_works::<D, 5>(
+            |i| {
+                [
+                    parts[i][0],
+                    parts[i][1],
+                    contact.map_or(D::zero(), |c| c[i]),
+                    or_zero(a_s, i),
+                    or_zero(loads, i),
+                ]
+            },
+            a,
+            v,
+            m,
+            dt,
+        );
+        self.work.riemann += riemann;
+        self.work.artificial += artificial;
+        self.work.contact += contact;
+        self.work.shear += shear;
+        self.work.loads += loads;
+    }
+
+    /// Eq 23: `x += h v`, `ρ += h dρ/dt`, `τ += h dτ/dt` with the rates of the last step, then
+    /// eq 4 (`p` and `V = m/ρ` of the new `ρ`), element-wise in one pass on the team (the
+    /// drift of the step's second half is part of [`Self::compute_rates`]).
+    fn drift_and_pressures(&mut self, h: f64) {
+        let (rho0, c0) = (self.rho0, self.c0);
+        if self.params.energy_budget && self.params.riemann == RiemannScheme::Paper {
+            // The volumetric-energy change the pressure jump makes over this drift
+            // (Σ m p/ρ² ρ̇_jump h at the start of the drift).
+            self.work.density_jump += h * self
+                .densities
+                .iter()
+                .zip(&self.masses)
+                .zip(&self.rates)
+                .map(|((&rho, &m), r)| m * pressure(rho, rho0, c0) / (rho * rho) * r.density_jump)
+                .sum::<f64>();
+        }
+        let (n, v, rates, m) = (self.len(), &self.velocities, &self.rates, &self.masses);
+        let columns = (
+            &mut self.positions[..],
+            &mut self.densities[..],
+            // Empty when ENOG's output-only stress is not integrated.
+            &mut self.stress[..],
+            &mut self.pressures[..],
+            &mut self.current_volumes[..],
+        );
+        gather_columns(n, columns, |rows, (x, rho, tau, p, vol)| {
+            for (k, i) in rows.enumerate() {
+                x[k] += v[i] * h;
+                rho[k] += rates[i].density * h;
+                if !tau.is_empty() {
+                    tau[k] += rates[i].stress * h;
+                }
+                p[k] = pressure(rho[k], rho0, c0);
+                vol[k] = m[i] / rho[k];
+            }
+        });
+    }
+}
