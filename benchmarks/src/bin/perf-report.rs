@@ -67,6 +67,24 @@ fn threads_section(md: &mut String) {
          (continuity, velocity gradient, ENOG's Laplacian) 16 %, the neighbour search of the \
          advection steps 6 %, the pair halves of a new list (`PairSymmetry::new`, serial) \
          3 %, element-wise updates 3 %.\n\n\
+         **The refresh, measured further.** Instructions and simulated cache misses of the \
+         same UL run to t = 0.02 s (`valgrind --tool=cachegrind --cache-sim=yes`, 32 KiB \
+         first-level data cache): the refresh executes 24 % of the instructions (1.84·10⁹ of \
+         7.60·10⁹; the force gather 21 %, the rate gather 16 %) and makes 74 % of the \
+         first-level write misses: its 40-byte records of about 34,000 pairs, 1.3 MB per \
+         sub-step, do not stay in a core's cache between the refresh, the force gather and the \
+         rate gather. Three rewrites with the same bits were measured against the build \
+         without them (one thread, 0.25 s simulated, the two builds interleaved, three runs \
+         each, quiet machine) and dropped: (1) the pairs of the refresh four at a time through \
+         AVX (`vsqrtpd`, `vdivpd` on 256-bit registers, selected at run time): 9.37 / 9.51 / \
+         10.25 s against 9.20 / 9.71 / 9.44 s, no gain; (2) the same batches over whole rows \
+         instead of the symmetric halves: 10.30 / 10.84 / 10.31 s against 9.24 / 8.42 / \
+         9.24 s, 12 % slower; (3) no refresh pass, the force gather computing its row's pair \
+         data (twice the kernel evaluations of the halves) and storing them for the rate \
+         gather: 12.63 / 11.71 / 12.13 s against 9.63 / 9.17 / 9.99 s (energy budget off in \
+         both), 25 % slower. What is left to try: smaller records (OG and ENOG never read `W` \
+         during a sub-step, 8 of the 40 bytes; single precision would change results at \
+         round-off).\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
