@@ -135,18 +135,29 @@ pub fn run_all(sel: Selection) -> Result<(), String> {
     for sweep in sweeps().into_iter().filter(|s| wanted(s.key)) {
         let values = if sel.quick { sweep.quick } else { sweep.full };
         for m in sweep.methods {
+            // Values run in increasing severity: once a method has failed, its harsher values
+            // are not made (stored ones are still read); the map marks them as skipped.
+            let mut failed_at = None;
             for &v in values {
+                let id = sweep_run_id(&sweep, m, v, sel.quick);
+                if let Some(at) = failed_at
+                    .as_ref()
+                    .filter(|_| crate::cost::load(&id).is_none())
+                {
+                    if !crate::store::plan_only() && !crate::store::filtered_out(&id) {
+                        println!("{id}: not made, {m} failed at the milder {at}");
+                    }
+                    continue;
+                }
                 let mut set = sweep_set(&sweep, v, sel.quick);
                 // The step limit: a multiple of the steps the run's dry run estimates.
                 let limit = crate::cost::estimated_steps(sweep.case, m, &set);
                 set.extend(limit.map(|n| format!("max_steps={}", (STEP_LIMIT_FACTOR * n).ceil())));
-                run_or_load(
-                    &sweep_run_id(&sweep, m, v, sel.quick),
-                    sweep.case,
-                    m,
-                    &set,
-                    sel.force,
-                )?;
+                let run = run_or_load(&id, sweep.case, m, &set, sel.force)?;
+                let made = !run.command.is_empty();
+                if made && matches!(outcome(&run), Outcome::Failed) && failed_at.is_none() {
+                    failed_at = Some(format!("{} = {}", sweep.parameter, fmt_value(v)));
+                }
             }
         }
     }
@@ -214,6 +225,8 @@ struct Point {
     error: Option<f64>,
     /// The run's largest disorder indicator (`max_disorder` of its summary).
     disorder: Option<f64>,
+    /// The run's `amplitude` (oscillation scenes), shown where no period was measured.
+    amplitude: Option<f64>,
     status: String,
     command: String,
 }
@@ -250,6 +263,14 @@ fn value_of(r: &CostedRun, m: Measure, method: &str) -> Option<f64> {
         }
         Measure::ClosedForm { num, den } => Some(r.num(num)? / r.num(den)? - 1.0),
         Measure::Error { key } => r.num(key),
+    }
+}
+
+/// The summary key a measure reads from a run.
+fn measured_key(m: Measure) -> &'static str {
+    match m {
+        Measure::FiniteElement { num, .. } | Measure::ClosedForm { num, .. } => num,
+        Measure::Error { key } => key,
     }
 }
 
@@ -309,7 +330,10 @@ pub fn report(root: &Path) -> Result<(), String> {
          its command: a run that needs more has a mean step below a tenth of that step, a \
          time step collapsing towards the solvers' own floor (10⁻³ of the acoustic step at \
          rest, which lets a run take up to a thousand times its usual steps before it stops), \
-         and counts as failed (time-step collapse: more steps than the limit).\n"
+         and counts as failed (time-step collapse: more steps than the limit). Once a method \
+         has failed, `validate tradeoff` does not make its harsher values (they would cost \
+         the most steps for the same answer); such cells read \"not run (failed at a milder \
+         value)\", while the harsher runs stored before this rule stay in the map.\n"
     )
     .unwrap();
     for sweep in sweeps() {
@@ -372,6 +396,7 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
             rss: run.max_rss_mib,
             error: error_of(run, l.method),
             disorder: run.num("max_disorder"),
+            amplitude: run.num("amplitude"),
             status: run.status(),
             command: run.command.clone(),
         })
@@ -513,8 +538,16 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
             "| {} | {} | {} | {:.2} | {:.2} | {:.3e} | {:.0} | {} | {} | `{}` |",
             p.line,
             fmt_value(p.res),
-            p.error
-                .map_or("–".into(), |e| format!("{:+.3} %", 100.0 * e)),
+            match p.error {
+                Some(e) => format!("{:+.3} %", 100.0 * e),
+                // A run that ended without the quantity (e.g. no full period in its time).
+                None if p.status == "completed" => match p.amplitude {
+                    Some(a) =>
+                        format!("– (no {}; amplitude {a:.4} m)", measured_key(scene.measure)),
+                    None => format!("– (no {})", measured_key(scene.measure)),
+                },
+                None => "–".into(),
+            },
             p.cpu,
             p.wall,
             p.work,
@@ -749,7 +782,12 @@ fn sweep_section(md: &mut String, sweep: &Sweep, fig_dir: &Path) -> Result<bool,
         write!(md, "| {m} |").unwrap();
         for &vi in &used {
             let cell = cells.iter().find(|c| c.0 == mi && c.1 == vi);
+            // A missing run after a failure of the same method was skipped on purpose.
+            let failed_before = cells
+                .iter()
+                .any(|(m2, v2, r)| *m2 == mi && *v2 < vi && matches!(outcome(r), Outcome::Failed));
             let text = match cell {
+                None if failed_before => "not run (failed at a milder value)".to_string(),
                 None => "not run".to_string(),
                 Some((_, _, r)) => {
                     let d = r
