@@ -682,6 +682,23 @@ fn table2_section(md: &mut String) {
     )
     .unwrap();
     writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|").unwrap();
+    // The cost of a row not yet run at the fine resolution, at the rates of those that were.
+    let fine_ids: Vec<String> = rows
+        .iter()
+        .filter(|r| r.4.is_some())
+        .map(|r| thin_id(r.1, r.0, TABLE2_FINE_RES))
+        .collect();
+    let fine_cost = rows
+        .iter()
+        .find(|r| r.2.is_some() && r.4.is_none())
+        .and_then(|r| {
+            cost_estimate(
+                "oscillating-plate-2d",
+                "tl-hf",
+                &thin_set(r.1, r.0, TABLE2_FINE_RES),
+                &fine_ids,
+            )
+        });
     for (vf, nu, paper, r, fine) in rows {
         let fe = crate::fem_plate::period("d2-split", "frame", 0.01, nu);
         writeln!(
@@ -699,11 +716,19 @@ fn table2_section(md: &mut String) {
         )
         .unwrap();
     }
-    writeln!(
-        md,
-        "\nH/dp {TABLE2_FINE_RES}: {fine_runs} of the {with_paper} rows with a paper value run \
-         (`validate tl --table2 --fine` makes the others, about 40 min each on two threads).\n"
-    )
+    match fine_cost {
+        Some(cost) => writeln!(
+            md,
+            "\nH/dp {TABLE2_FINE_RES}: {fine_runs} of the {with_paper} rows with a paper value \
+             run. `validate tl --table2 --fine` makes the others; one of them (`sph run … \
+             --dry-run`, rates of the H/dp {TABLE2_FINE_RES} runs above): {cost}.\n"
+        ),
+        None => writeln!(
+            md,
+            "\nH/dp {TABLE2_FINE_RES}: {fine_runs} of the {with_paper} rows with a paper value \
+             run.\n"
+        ),
+    }
     .unwrap();
     let (nu, vf, res) = TABLE2_CONVERGENCE;
     let paper = TABLE2
