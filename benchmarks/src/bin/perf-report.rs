@@ -84,7 +84,13 @@ fn threads_section(md: &mut String) {
          gather: 12.63 / 11.71 / 12.13 s against 9.63 / 9.17 / 9.99 s (energy budget off in \
          both), 25 % slower. What is left to try: smaller records (OG and ENOG never read `W` \
          during a sub-step, 8 of the 40 bytes; single precision would change results at \
-         round-off).\n\n\
+         round-off). The serial `PairSymmetry::new` of each rebuild was also built per block \
+         on the team, the pairs whose mirror lies in another block computed instead of \
+         copied after the parallel region (same bits; Intel Xeon, the other runs on the \
+         machine stopped, the two builds interleaved, 0.25 s simulated): two threads \
+         2.44 s (2.42–2.45, median of 5) against 2.41 s (2.38–2.43), one thread 3.99 s \
+         (3.97–3.99, 3 runs) against 3.93 s (3.89–3.96): the per-block construction costs more \
+         than the serial one it replaces, dropped.\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
