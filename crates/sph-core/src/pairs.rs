@@ -21,6 +21,16 @@ pub struct PairKernel<D: Dim> {
 }
 
 impl<D: Dim> PairKernel<D> {
+    /// All zero: the filler of a pair buffer before its data are computed.
+    pub fn zero() -> Self {
+        Self {
+            e: D::zero(),
+            r: 0.0,
+            w: 0.0,
+            dw: 0.0,
+        }
+    }
+
     /// Kernel gradient `∇_i W_ij = W′(r_ij) e_ij`.
     #[inline(always)]
     pub fn grad(&self) -> D::Vector {
@@ -45,15 +55,7 @@ pub fn pair_kernels_between<D: Dim, K: Kernel>(
     list: &NeighborList,
     kernel: &K,
 ) -> Vec<PairKernel<D>> {
-    let mut out = vec![
-        PairKernel::<D> {
-            e: D::zero(),
-            r: 0.0,
-            w: 0.0,
-            dw: 0.0
-        };
-        list.num_pairs()
-    ];
+    let mut out = vec![PairKernel::<D>::zero(); list.num_pairs()];
     fill_pair_kernels(queries, targets, list, kernel, &mut out);
     out
 }

@@ -138,13 +138,7 @@ impl<D: Dim> Contact<D> {
     }
 
     fn update_pairs(&mut self, positions: &[D::Vector], kernel: &WendlandC2<D>) {
-        let zero = PairKernel::<D> {
-            e: D::zero(),
-            r: 0.0,
-            w: 0.0,
-            dw: 0.0,
-        };
-        self.pairs.resize(self.list.num_pairs(), zero);
+        self.pairs.resize(self.list.num_pairs(), PairKernel::zero());
         fill_pair_kernels(positions, positions, &self.list, kernel, &mut self.pairs);
     }
 
@@ -160,15 +154,8 @@ impl<D: Dim> Contact<D> {
         if self.list.num_pairs() == 0 {
             return 0.0;
         }
-        let mut pairs = Vec::new();
+        let mut pairs = vec![PairKernel::<D>::zero(); self.list.num_pairs()];
         let mut density = vec![0.0; masses.len()];
-        let zero = PairKernel::<D> {
-            e: D::zero(),
-            r: 0.0,
-            w: 0.0,
-            dw: 0.0,
-        };
-        pairs.resize(self.list.num_pairs(), zero);
         fill_pair_kernels(positions, positions, &self.list, kernel, &mut pairs);
         contact_density(&self.list, &pairs, masses, self.w_dp, &mut density);
         masses

@@ -47,13 +47,7 @@ impl<D: Dim> UlSolver<D> {
             }
         }
         self.isolated_max = self.isolated_max.max(self.isolated);
-        let zero = PairKernel::<D> {
-            e: D::zero(),
-            r: 0.0,
-            w: 0.0,
-            dw: 0.0,
-        };
-        self.pairs.resize(self.list.num_pairs(), zero);
+        self.pairs.resize(self.list.num_pairs(), PairKernel::zero());
         self.halves = PairSymmetry::new(&self.list);
         self.refresh_pair_kernels();
         if let Some(k) = self.pairs.iter().position(|p| p.r <= 0.0) {
