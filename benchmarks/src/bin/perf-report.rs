@@ -82,9 +82,20 @@ fn threads_section(md: &mut String) {
          9.24 s, 12 % slower; (3) no refresh pass, the force gather computing its row's pair \
          data (twice the kernel evaluations of the halves) and storing them for the rate \
          gather: 12.63 / 11.71 / 12.13 s against 9.63 / 9.17 / 9.99 s (energy budget off in \
-         both), 25 % slower. What is left to try: smaller records (OG and ENOG never read `W` \
-         during a sub-step, 8 of the 40 bytes; single precision would change results at \
-         round-off). The serial `PairSymmetry::new` of each rebuild was also built per block \
+         both), 25 % slower. **Smaller records, kept:** the pair record no longer stores `W` \
+         (only OAS's artificial stress, contact, GM's penalty and the disorder indicator read \
+         it; they evaluate the kernel at the stored distance, the same bits), 32 instead of 40 \
+         bytes in 2D and 40 instead of 48 in 3D, and the refresh no longer evaluates `W`. \
+         Intel Xeon, the other runs on the machine stopped, old and new build interleaved: \
+         UL-ENOG plate 2D to 0.25 s, one thread 3.96 → 3.64 s (3 runs each, ranges 3.91–3.96 \
+         and 3.63–3.66), two threads 2.41 → 2.29 s (median of 5, 2.39–2.44 and 2.27–2.31); \
+         UL-ENOG 3D plate at H/dp 3 (`sph run oscillating-plate-3d --method ul-enog --set \
+         resolution=3 --set end_time=0.004 --no-output --threads 2`) 50.7 → 41.7 s (3 runs \
+         each, 47.2–50.7 and 41.6–44.6), −18 %. The results files of eleven scenes (UL-ENOG, \
+         OAS with refreshed and frozen kernel data, TL-GM stored and recomputed, UL and MPS \
+         rings with contact, the MPS pressurised ring and slab, the 2D ball–plate, the Hertz \
+         impact) are equal to the previous build's, every dataset. Single precision would \
+         change results at round-off and was not tried. The serial `PairSymmetry::new` of each rebuild was also built per block \
          on the team, the pairs whose mirror lies in another block computed instead of \
          copied after the parallel region (same bits; Intel Xeon, the other runs on the \
          machine stopped, the two builds interleaved, 0.25 s simulated): two threads \

@@ -11,33 +11,29 @@ use crate::correction::{guarded_inverse, DEFAULT_MIN_EIGENVALUE};
 use crate::dim::Dim;
 use crate::kernel::{Kernel, WendlandC2};
 use crate::neighbor::NeighborList;
-use crate::pairs::PairKernel;
 
-/// The reference weights `W⁰_ij` and distances `|X_ij|` of the indicator and of
-/// [`affine_fit`]: the stored kernel data of the list's pairs, or the kernel evaluated at each
-/// pair's reference distance as it is visited (nothing stored per pair: a method whose
-/// reference data is not kept, like UL's initial configuration, would otherwise allocate the
-/// whole pair list for every monitor sample). Both give the same bits.
+/// The reference weights `W⁰_ij` of the indicator and of [`affine_fit`] (the distances
+/// `|X_ij|` are those of the reference positions): the kernel evaluated at each pair's
+/// reference distance as it is visited (nothing stored per pair: a method whose reference
+/// data is not kept, like UL's initial configuration, would otherwise allocate the whole pair
+/// list for every monitor sample), or a method's own stored weights (MPS's eq 6).
 #[derive(Clone, Copy, Debug)]
 pub enum ReferenceWeights<'a, D: Dim> {
-    /// The pairs' stored reference kernel data, in list order.
-    Pairs(&'a [PairKernel<D>]),
     /// Evaluate this kernel at the reference distance.
     Kernel(&'a WendlandC2<D>),
+    /// One stored weight per slot of the list, in list order.
+    Stored(&'a [f64]),
 }
 
 impl<D: Dim> ReferenceWeights<'_, D> {
     /// `(W⁰, r)` of the pair in slot `k` of the list whose reference separation is `xij0`:
-    /// the stored weight and distance, or the kernel at `|xij0|`.
+    /// the kernel at `r = |xij0|`, or the stored weight.
     #[inline(always)]
     fn at(&self, k: usize, xij0: D::Vector) -> (f64, f64) {
+        let r = D::norm(xij0);
         match self {
-            ReferenceWeights::Pairs(p) => (p[k].w, p[k].r),
-            ReferenceWeights::Kernel(kernel) => {
-                // As `pairs::pair_kernel` computes them.
-                let r = D::norm(xij0);
-                (kernel.w_and_dw_dr(r).0, r)
-            }
+            ReferenceWeights::Kernel(kernel) => (kernel.w(r), r),
+            ReferenceWeights::Stored(w) => (w[k], r),
         }
     }
 }
@@ -169,8 +165,11 @@ mod tests {
         let x0 = block::<D>(8, dp);
         let k = WendlandC2::<D>::from_spacing(dp, 1.15).unwrap();
         let list = neighbor_list_cells::<D>(&x0, k.cutoff()).unwrap();
-        let stored = pair_kernels::<D, _>(&x0, &list, &k);
-        let pairs = ReferenceWeights::Pairs(&stored);
+        let stored: Vec<f64> = pair_kernels::<D, _>(&x0, &list, &k)
+            .iter()
+            .map(|p| p.w(&k))
+            .collect();
+        let pairs = ReferenceWeights::<D>::Stored(&stored);
         let g = D::matrix_from_fn(|r, c| if r == c { 1.2 - 0.1 * r as f64 } else { 0.15 });
         let x: Vec<D::Vector> = x0
             .iter()
@@ -200,7 +199,7 @@ mod tests {
         let fit = affine_fit(&list, pairs, &x0, &zig);
         let e = disorder_indicator(&list, pairs, &x0, &zig, &fit);
         assert!(DisorderStats::of(&e).mean > 0.02);
-        // The kernel evaluated pair by pair gives the stored data's bits.
+        // The kernel evaluated pair by pair gives the stored weights' bits.
         let kernel = ReferenceWeights::Kernel(&k);
         let fit_k = affine_fit(&list, kernel, &x0, &zig);
         assert_eq!(fit_k, fit);

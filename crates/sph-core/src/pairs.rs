@@ -1,4 +1,7 @@
-//! Per-pair kernel data aligned with a [`NeighborList`]: distance, unit vector, `W` and `W′`.
+//! Per-pair kernel data aligned with a [`NeighborList`]: distance, unit vector and `W′` (the
+//! kernel value `W`, which few terms read, from the distance on demand: [`PairKernel::w`]).
+//! A record is 32 bytes in 2D and 40 in 3D; storing `W` too made them 40 and 48, and the
+//! UL sub-step, which rewrites and re-reads every record, measurably slower (docs/performance.md).
 //! Total-Lagrangian methods compute it once in the reference configuration; updated-Lagrangian
 //! methods after every neighbour rebuild and, by default, again in every acoustic sub-step
 //! ([`PairSymmetry::fill`] computes each unordered pair once there).
@@ -14,8 +17,6 @@ pub struct PairKernel<D: Dim> {
     pub e: D::Vector,
     /// Distance `r_ij`.
     pub r: f64,
-    /// Kernel value `W(r_ij)`.
-    pub w: f64,
     /// Radial derivative `W′(r_ij) ≤ 0`; `∇_i W_ij = W′ e_ij`.
     pub dw: f64,
 }
@@ -26,9 +27,15 @@ impl<D: Dim> PairKernel<D> {
         Self {
             e: D::zero(),
             r: 0.0,
-            w: 0.0,
             dw: 0.0,
         }
+    }
+
+    /// Kernel value `W(r_ij)` of `kernel` (the kernel the data were filled with) at the stored
+    /// distance: the same bits as the `W` of [`Kernel::w_and_dw_dr`] there.
+    #[inline(always)]
+    pub fn w<K: Kernel>(&self, kernel: &K) -> f64 {
+        kernel.w(self.r)
     }
 
     /// Kernel gradient `∇_i W_ij = W′(r_ij) e_ij`.
@@ -87,11 +94,11 @@ pub fn fill_pair_kernels<D: Dim, K: Kernel>(
 pub fn pair_kernel<D: Dim, K: Kernel>(d: D::Vector, kernel: &K) -> PairKernel<D> {
     let r = D::norm(d);
     let e = if r > 0.0 { d / r } else { D::zero() };
-    let (w, dw) = kernel.w_and_dw_dr(r);
-    PairKernel { e, r, w, dw }
+    let dw = kernel.dw_dr(r);
+    PairKernel { e, r, dw }
 }
 
-/// The data of the reversed pair `(j, i)` from that of `(i, j)`: the same `r`, `W`, `W′` and
+/// The data of the reversed pair `(j, i)` from that of `(i, j)`: the same `r`, `W′` and
 /// `e_ji = −e_ij`. Bit for bit what [`pair_kernel`] gives for `−d` (IEEE subtraction, the
 /// norm and the division are sign-symmetric); the zero vector of coincident particles stays
 /// positive, as [`pair_kernel`] makes it.
@@ -334,7 +341,6 @@ mod tests {
                     PairKernel::<D> {
                         e: D::zero(),
                         r: -1.0,
-                        w: -1.0,
                         dw: 1.0
                     };
                     list.num_pairs()

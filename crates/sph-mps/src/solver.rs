@@ -19,7 +19,7 @@ use sph_core::solver::first_non_finite;
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
 use sph_core::state::{restore_probes, save_probes, StateReader, StateWriter};
 use sph_core::{
-    Body, Constraints, Dim, Error, Field, Loads, NeighborList, PairKernel, Probe, Solver, StepInfo,
+    Body, Constraints, Dim, Error, Field, Loads, NeighborList, Probe, Solver, StepInfo,
 };
 use sph_materials::{von_mises, Material};
 use std::sync::Arc;
@@ -135,8 +135,9 @@ pub struct MpsSolver<D: Dim, M: Material<D>> {
     /// `A_i⁻¹` (eq 5, guarded).
     a_inv: Vec<D::Matrix>,
     guarded: usize,
-    /// Reference pair data for the disorder indicator: `w` = eq 6 weight, `r = |X_ij|`.
-    ref_pairs: Vec<PairKernel<D>>,
+    /// The eq 6 weight `w_ij` of every pair, in list order (the disorder indicator's and the
+    /// surface normals' weights).
+    ref_weights: Vec<f64>,
     // State.
     positions: Vec<D::Vector>,
     velocities: Vec<D::Vector>,
@@ -223,18 +224,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
                 pairs[k] = (weight(r, re), xij);
             }
         }
-        let ref_pairs: Vec<PairKernel<D>> = pairs
-            .iter()
-            .map(|&(w, x)| {
-                let r = D::norm(x);
-                PairKernel {
-                    e: x * (-1.0 / r),
-                    r,
-                    w,
-                    dw: 0.0,
-                }
-            })
-            .collect();
+        let ref_weights: Vec<f64> = pairs.iter().map(|&(w, _)| w).collect();
         let inv: Vec<(D::Matrix, bool)> = (0..n)
             .into_par_iter()
             .map(|i| {
@@ -293,7 +283,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             g_rev,
             a_inv,
             guarded,
-            ref_pairs,
+            ref_weights,
             velocities,
             deformation: vec![D::identity(); n],
             stress_term: vec![D::zero_matrix(); n],
@@ -339,12 +329,16 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// Particle indices outside the body, normals or areas of the wrong length, zero or
     /// non-finite normals, non-positive areas, or an interior particle with estimated normals.
     pub fn with_surface_pressure(mut self, sp: SurfacePressure<D>) -> Result<Self, Error> {
-        let (list, pairs) = (&self.list, &self.ref_pairs);
+        let (list, weights, x0) = (&self.list, &self.ref_weights, &self.reference);
         let resolved = ResolvedPressure::resolve(sp, self.len(), self.dp, |i| {
-            // Σ_j w_ij X_ij (X_ij = −r e).
-            pairs[list.range(i)]
-                .iter()
-                .fold(D::zero(), |s, p| s + p.e * (-p.r * p.w))
+            // Σ_j w_ij (X_j − X_i), summed as `e (−r w)` with `e = −(X_j − X_i)/r`.
+            list.range(i)
+                .zip(list.neighbors(i))
+                .fold(D::zero(), |s, (k, &j)| {
+                    let x = x0[j as usize] - x0[i];
+                    let r = D::norm(x);
+                    s + x * (-1.0 / r) * (-r * weights[k])
+                })
         })?;
         self.pressures.push(resolved);
         self.refresh();
@@ -761,7 +755,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     pub fn disorder(&self) -> Vec<f64> {
         disorder_indicator::<D>(
             &self.list,
-            ReferenceWeights::Pairs(&self.ref_pairs),
+            ReferenceWeights::Stored(&self.ref_weights),
             &self.reference,
             &self.positions,
             &self.deformation,

@@ -59,11 +59,11 @@ pub(crate) enum PairScalar {
 
 impl PairScalar {
     #[inline(always)]
-    fn of<D: Dim>(self, p: &PairKernel<D>, volume_j: f64) -> f64 {
+    fn of<D: Dim>(self, p: &PairKernel<D>, kernel: &WendlandC2<D>, volume_j: f64) -> f64 {
         match self {
             PairScalar::None => 0.0,
             PairScalar::Laplacian => laplacian_weight(p, volume_j),
-            PairScalar::Penalty => penalty_weight(p, volume_j),
+            PairScalar::Penalty => penalty_weight(p, kernel, volume_j),
         }
     }
 }
@@ -82,10 +82,10 @@ pub fn laplacian_weight<D: Dim>(p: &PairKernel<D>, volume_j: f64) -> f64 {
 }
 
 /// `V_j W(r⁰_ij)/|X_ij|²`: the pair weight of Ganzenmüller's hourglass penalty
-/// ([`crate::ganzenmuller`]).
+/// ([`crate::ganzenmuller`]), `W` of `kernel` (the kernel of `p`).
 #[inline(always)]
-pub fn penalty_weight<D: Dim>(p: &PairKernel<D>, volume_j: f64) -> f64 {
-    volume_j * p.w / (p.r * p.r)
+pub fn penalty_weight<D: Dim>(p: &PairKernel<D>, kernel: &WendlandC2<D>, volume_j: f64) -> f64 {
+    volume_j * p.w(kernel) / (p.r * p.r)
 }
 
 /// The stored form: one gradient and (unless the variant has none) one scalar per list slot.
@@ -139,7 +139,7 @@ impl<D: Dim> ReferencePairs<D> {
                 .flat_map_iter(|i| {
                     list.neighbors(i).iter().map(move |&j| {
                         let (p, v) = pair(i, j);
-                        (gradient_weight(&p, v), scalar.of(&p, v))
+                        (gradient_weight(&p, v), scalar.of(&p, kernel, v))
                     })
                 })
                 .unzip();
@@ -152,7 +152,7 @@ impl<D: Dim> ReferencePairs<D> {
             (None, _) => (0..list.len()).find_map(|i| {
                 list.range(i).zip(list.neighbors(i)).find_map(|(k, &j)| {
                     let (p, v) = pair(i, j);
-                    (!scalar.of(&p, v).is_finite()).then_some(k)
+                    (!scalar.of(&p, kernel, v).is_finite()).then_some(k)
                 })
             }),
         };
@@ -341,7 +341,7 @@ impl<D: Dim> PairRows<D> for RecomputedRows<'_, D> {
         match self.scalar {
             PairScalar::None => self.visit(i, init, |_, _| 0.0, f),
             PairScalar::Laplacian => self.visit(i, init, laplacian_weight, f),
-            PairScalar::Penalty => self.visit(i, init, penalty_weight, f),
+            PairScalar::Penalty => self.visit(i, init, |p, v| penalty_weight(p, self.kernel, v), f),
         }
     }
 }

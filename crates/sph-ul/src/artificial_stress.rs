@@ -28,17 +28,19 @@ pub fn artificial_stress<D: Dim>(sigma: D::Matrix, rho: f64, epsilon: f64) -> D:
 }
 
 /// Pair term of the artificial stress, Gray et al. (2001):
-/// `m_j f_ij^n (R_i + R_j) ∇_i W_ij`, `f_ij = W(r_ij)/W(dp)`.
+/// `m_j f_ij^n (R_i + R_j) ∇_i W_ij`, `f_ij = W(r_ij)/W(dp)` (`w = W(r_ij)`, `∇_i W_ij` from
+/// `pair`).
 #[inline(always)]
 pub fn artificial_pair_acceleration<D: Dim>(
     r_i: D::Matrix,
     r_j: D::Matrix,
     pair: &PairKernel<D>,
+    w: f64,
     inv_w_dp: f64,
     exponent: u32,
     m_j: f64,
 ) -> D::Vector {
-    let f = (pair.w * inv_w_dp).powi(exponent as i32);
+    let f = (w * inv_w_dp).powi(exponent as i32);
     (r_i + r_j) * (pair.e * (pair.dw * m_j * f))
 }
 
@@ -69,19 +71,17 @@ impl<D: Dim> ShearForce<D> for ArtificialShear<'_, D> {
         pk: &PairKernel<D>,
         vj_rho_i: f64,
     ) -> (D::Vector, D::Vector) {
-        let current = match self.positions {
-            Some(x) => PairKernel::<D> {
-                w: self.kernel.w(D::norm(x[i] - x[j])),
-                ..*pk
-            },
-            None => *pk,
+        let w = match self.positions {
+            Some(x) => self.kernel.w(D::norm(x[i] - x[j])),
+            None => pk.w(self.kernel),
         };
         (
             shear_pair_acceleration::<D>(self.tau[i], self.tau[j], pk.e, pk.dw, vj_rho_i),
             artificial_pair_acceleration::<D>(
                 self.r[i],
                 self.r[j],
-                &current,
+                pk,
+                w,
                 self.inv_w_dp,
                 self.n,
                 self.masses[j],

@@ -117,6 +117,7 @@ impl<D: Dim> Contact<D> {
         contact_density(
             &self.list,
             &self.pairs,
+            kernel,
             masses,
             self.w_dp,
             &mut self.density,
@@ -157,7 +158,7 @@ impl<D: Dim> Contact<D> {
         let mut pairs = vec![PairKernel::<D>::zero(); self.list.num_pairs()];
         let mut density = vec![0.0; masses.len()];
         fill_pair_kernels(positions, positions, &self.list, kernel, &mut pairs);
-        contact_density(&self.list, &pairs, masses, self.w_dp, &mut density);
+        contact_density(&self.list, &pairs, kernel, masses, self.w_dp, &mut density);
         masses
             .iter()
             .zip(&density)
@@ -180,6 +181,7 @@ impl<D: Dim> Contact<D> {
 fn contact_density<D: Dim>(
     list: &NeighborList,
     pairs: &[PairKernel<D>],
+    kernel: &WendlandC2<D>,
     masses: &[f64],
     w_dp: f64,
     out: &mut [f64],
@@ -188,7 +190,7 @@ fn contact_density<D: Dim>(
         *rho_c = pairs[list.range(i)]
             .iter()
             .zip(list.neighbors(i))
-            .map(|(pk, &j)| (pk.w - w_dp).max(0.0) * masses[j as usize])
+            .map(|(pk, &j)| (pk.w(kernel) - w_dp).max(0.0) * masses[j as usize])
             .sum();
     });
 }

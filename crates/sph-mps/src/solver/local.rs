@@ -49,7 +49,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         let pairs = |v: &[D::Vector]| pair_ids.iter().map(|&k| v[k]).collect::<Vec<_>>();
         self.g = pairs(&self.g);
         self.g_rev = pairs(&self.g_rev);
-        self.ref_pairs = pair_ids.iter().map(|&k| self.ref_pairs[k]).collect();
+        self.ref_weights = pair_ids.iter().map(|&k| self.ref_weights[k]).collect();
         if let Some(st) = &mut self.stabilisation {
             st.restrict(d, &pair_ids);
         }

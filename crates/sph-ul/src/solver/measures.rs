@@ -121,17 +121,19 @@ impl<D: Dim> UlSolver<D> {
 
     /// The per-step disorder indicator: the affine fit of the motion since the last rebuild
     /// (the last advection step for dual stepping, the last acoustic step for single stepping)
-    /// over the neighbours of that rebuild (docs/methods.md's UL form).
+    /// over the neighbours of that rebuild, weighted with the kernel at the rebuild's distances
+    /// (docs/methods.md's UL form).
     pub fn disorder_increment(&self) -> Vec<f64> {
+        let reference = ReferenceWeights::Kernel(&self.kernel);
         let f = affine_fit::<D>(
             &self.list,
-            ReferenceWeights::Pairs(&self.pairs),
+            reference,
             &self.rebuild_positions,
             &self.positions,
         );
         disorder_indicator::<D>(
             &self.list,
-            ReferenceWeights::Pairs(&self.pairs),
+            reference,
             &self.rebuild_positions,
             &self.positions,
             &f,
