@@ -114,10 +114,12 @@ fn reversed<D: Dim>(p: PairKernel<D>) -> PairKernel<D> {
 /// neighbour of `j`; rows in any order): the slots `(i, j ≥ i)`, whose kernel data are
 /// computed, and the slots `(i, j < i)`, which receive the reversed data of their mirror
 /// `(j, i)`. Built once per neighbour list in one pass over its pairs; [`Self::fill`] then
-/// does the work of [`fill_pair_kernels`] with half the square roots, divisions and kernel
-/// evaluations, bit for bit the same result, in one parallel region: each task computes its
-/// block of rows and copies the mirrors that lie in that block; the few copies across blocks
-/// follow on the calling thread.
+/// does the work of [`fill_pair_kernels`] with about half the square roots, divisions and
+/// kernel evaluations, bit for bit the same result, in one parallel region: each task computes
+/// its block of rows and copies the mirrors that lie in that block; a slot `(i, j < i)` whose
+/// mirror lies in another task's block is computed too (the same bits as the copy), so no
+/// serial pass follows the region (blocks hold 512–1,023 particles: a fifth of the pairs of
+/// the UL 3D plate at H/dp 3 cross them, 5 % of the 2D plate's at H/dp 10).
 ///
 /// # Example
 /// ```
@@ -147,8 +149,11 @@ pub struct PairSymmetry {
     /// `(k, m)`: the slot `k` of `(i, j < i)` and the slot `m` of its mirror `(j, i)`, with `j`
     /// in the same block of [`crate::parallel::gather_blocks`] as `i`.
     local: Vec<(u32, u32)>,
-    /// The same for `j` in another block (copied after the parallel region).
-    cross: Vec<(u32, u32)>,
+    /// Row `i`'s slots `(i, j < i)` with `j` in another block are
+    /// `cross[cross_start[i]..cross_start[i + 1]]` (computed, not copied).
+    cross_start: Vec<usize>,
+    /// Those slots, absolute, grouped by row.
+    cross: Vec<u32>,
 }
 
 impl PairSymmetry {
@@ -197,8 +202,10 @@ impl PairSymmetry {
         let mut slot_of = vec![u32::MAX; n];
         let mut local_start = Vec::with_capacity(n + 1);
         let mut local = Vec::with_capacity(lower_start[n]);
+        let mut cross_start = Vec::with_capacity(n + 1);
         let mut cross = Vec::new();
         local_start.push(0);
+        cross_start.push(0);
         let block: Vec<usize> = (0..n).map(|i| crate::parallel::block_of(n, i)).collect();
         for i in 0..n {
             if fill[i] != lower_start[i + 1] {
@@ -219,10 +226,11 @@ impl PairSymmetry {
                 if block[j] == block[i] {
                     local.push((k as u32, m));
                 } else {
-                    cross.push((k as u32, m));
+                    cross.push(k as u32);
                 }
             }
             local_start.push(local.len());
+            cross_start.push(cross.len());
         }
         Some(Self {
             pairs,
@@ -230,6 +238,7 @@ impl PairSymmetry {
             upper,
             local_start,
             local,
+            cross_start,
             cross,
         })
     }
@@ -262,7 +271,9 @@ impl PairSymmetry {
             let base = offsets[rows.start];
             for i in rows.clone() {
                 let xi = positions[i];
-                for &k in &self.upper[self.upper_start[i]..self.upper_start[i + 1]] {
+                let upper = &self.upper[self.upper_start[i]..self.upper_start[i + 1]];
+                let cross = &self.cross[self.cross_start[i]..self.cross_start[i + 1]];
+                for &k in upper.iter().chain(cross) {
                     let j = indices[k as usize] as usize;
                     block[k as usize - base] = pair_kernel::<D, K>(xi - positions[j], kernel);
                 }
@@ -271,9 +282,6 @@ impl PairSymmetry {
                 block[k as usize - base] = reversed(block[m as usize - base]);
             }
         });
-        for &(k, m) in &self.cross {
-            out[k as usize] = reversed(out[m as usize]);
-        }
     }
 }
 
