@@ -63,7 +63,7 @@ fn features() -> Vec<Feature> {
           "the dissipated/artificial parts of every pair force and the works, per sub-step"),
         f("2D plate", "oscillating-plate-2d", "ul-enog", PLATE_UL, "kernel data refreshed every sub-step",
           &["refresh_kernel_data=false"], &[], false,
-          "e, r, W, W′ recomputed from the current positions (off changes the motion: the plate softens, docs/methods.md)"),
+          "e, r, W′ recomputed from the current positions (off changes the motion: the plate softens, docs/methods.md)"),
         f("2D plate", "oscillating-plate-2d", "ul-enog", PLATE_UL, "disorder/energy monitor",
           &["monitor_interval=0.2"], &[], false,
           "200 samples of the disorder indicator and the energies instead of 1"),
@@ -96,7 +96,7 @@ fn features() -> Vec<Feature> {
           "the dissipated/artificial parts of every pair force and the works, per sub-step"),
         f("3D plate (43,200 particles)", "oscillating-plate-3d", "ul-enog", PLATE3D,
           "kernel data refreshed every sub-step", &["refresh_kernel_data=false"], &[], false,
-          "e, r, W, W′ recomputed from the current positions (off changes the motion)"),
+          "e, r, W′ recomputed from the current positions (off changes the motion)"),
     ]
 }
 

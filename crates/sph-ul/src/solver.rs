@@ -23,7 +23,7 @@
 //! loops (and the same for every thread count).
 //!
 //! The neighbour list and the correction matrix `B` are those of the last rebuild, frozen over
-//! the acoustic sub-steps of one advection step; the kernel data (`e_ij`, `r_ij`, `W`, `W′`) are
+//! the acoustic sub-steps of one advection step; the kernel data (`e_ij`, `r_ij`, `W′`; `W` from `r_ij` where a term reads it) are
 //! recomputed over that list from the half-step positions of every sub-step
 //! ([`UlParams::refresh_kernel_data`], default; frozen too when off). Volumes `V_j = m_j/ρ_j` use
 //! the current densities. Every pair term is antisymmetric in `(i, j)` at one instant, so linear
@@ -97,7 +97,7 @@ pub struct UlParams {
     pub track_shear_stress: bool,
     /// Reorder particles in cell order at rebuilds (cache locality; default true).
     pub reorder: bool,
-    /// Recompute the pair kernel data (`e_ij`, `r_ij`, `W`, `W′`) from the half-step positions
+    /// Recompute the pair kernel data (`e_ij`, `r_ij`, `W′`) from the half-step positions
     /// in every acoustic sub-step, over the neighbour list of the last rebuild (the list, the
     /// cell list and `B` stay those of the rebuild). Default **on**. Off is docs/methods.md's scheme
     /// (the data of the rebuild serve the whole advection step), which makes the 2D plate

@@ -69,7 +69,7 @@ pub fn ul_params() -> Vec<Param> {
         Param::bool(
             "refresh_kernel_data",
             true,
-            "recompute e_ij, r_ij, W, W′ from the current positions in every acoustic sub-step \
+            "recompute e_ij, r_ij, W′ from the current positions in every acoustic sub-step \
              (the list and B stay those of the rebuild); false = docs/methods.md's frozen data: \
              1.4–1.6× faster per sub-step but the plate softens secularly (period +7 % in 3 s)",
         ),
