@@ -332,11 +332,20 @@ fn main() {
         .and_then(|t| serde_json::from_str::<Value>(&t).ok())
         .and_then(|v| v.get("rows").and_then(Value::as_array).cloned())
         .unwrap_or_default();
-    let fresh: Vec<String> = rows
-        .iter()
-        .map(|r| format!("{}|{}", r["label"], r["threads"]))
-        .collect();
-    all.retain(|r| !fresh.contains(&format!("{}|{}", r["label"], r["threads"])));
+    // A row is replaced only by the same scene, thread count and machine: the rows of another
+    // machine stay (each beside the SPHinXsys time of its own machine in the report).
+    let key = |r: &Value| {
+        format!(
+            "{}|{}|{}",
+            r["label"],
+            r["threads"],
+            r["machine"]
+                .as_str()
+                .unwrap_or(sph_benchmarks::EARLIER_MACHINE)
+        )
+    };
+    let fresh: Vec<String> = rows.iter().map(key).collect();
+    all.retain(|r| !fresh.contains(&key(r)));
     all.extend(rows);
     let doc = json!({
         "generated_by": "cargo run --release -p sph-benchmarks --bin case-timings",
