@@ -168,10 +168,10 @@ fn header(md: &mut String) {
     .unwrap();
     writeln!(
         md,
-        "Machines: the criterion tables and the UL stepping table were measured on {} (the \
-         machine of the last `cargo bench`; their result files predate the machine field); the \
-         whole-run tables name the machine of each row, and a ratio to SPHinXsys is given only \
-         beside a SPHinXsys time measured on the same machine.\n",
+        "Machines: the criterion tables were measured on {} (the machine of the last `cargo \
+         bench`; their result files predate the machine field); the UL stepping and whole-run \
+         tables name the machine of each row, and a ratio to SPHinXsys is given only beside a \
+         SPHinXsys time measured on the same machine.\n",
         sph_benchmarks::EARLIER_MACHINE
     )
     .unwrap();
@@ -368,10 +368,10 @@ fn ul_stepping_section(md: &mut String, root: &Path) {
     };
     writeln!(
         md,
-        "| scene | particles | end time | threads | dual: s (sub-steps, rebuilds) | dual, frozen kernel data: s | single: s (steps) | speed-up single/dual | single/dual frozen | refreshed/frozen | particle-steps/s dual / frozen / single |"
+        "| scene | machine | particles | end time | threads | dual: s (sub-steps, rebuilds) | dual, frozen kernel data: s | single: s (steps) | speed-up single/dual | single/dual frozen | refreshed/frozen | particle-steps/s dual / frozen / single |"
     )
     .unwrap();
-    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|").unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|").unwrap();
     for r in rows {
         let num = |a: &str, b: &str| r[a][b].as_f64().unwrap_or(f64::NAN);
         let end = r["set"]
@@ -390,8 +390,9 @@ fn ul_stepping_section(md: &mut String, root: &Path) {
         );
         writeln!(
             md,
-            "| {} | {} | {end} | {} | {td:.2} ({}, {}) | {tf:.2} | {ts:.2} ({}) | {:.2}× | {:.2}× | {:.2} | {:.2e} / {:.2e} / {:.2e} |",
+            "| {} | {} | {} | {end} | {} | {td:.2} ({}, {}) | {tf:.2} | {ts:.2} ({}) | {:.2}× | {:.2}× | {:.2} | {:.2e} / {:.2e} / {:.2e} |",
             r["scene"].as_str().unwrap_or("?"),
+            short_machine(&row_machine(&r)),
             num("dual", "particles"),
             r["threads"],
             num("dual", "acoustic_steps"),

@@ -81,7 +81,13 @@ fn main() {
     let threads = rayon::current_num_threads();
     let mut rows = Vec::new();
     for (name, case, sets) in scenes {
-        let mut row = json!({ "scene": name, "case": case, "set": sets, "threads": threads });
+        let mut row = json!({
+            "machine": sph_benchmarks::machine(),
+            "scene": name,
+            "case": case,
+            "set": sets,
+            "threads": threads,
+        });
         for (scheme, extra) in [
             ("dual", &["stepping=dual"][..]),
             (
