@@ -102,7 +102,26 @@ fn threads_section(md: &mut String) {
          H/dp 3 (457,688 of 2,293,108) and 5 % of the 2D plate's (1,481 of 28,936). Same \
          machine and method, interleaved: 3D plate to 0.002 s, two threads, 29.5 → 28.4 s \
          (3 runs each, 28.8–30.4 and 27.3–28.9); 2D plate to 0.25 s, two threads, 2.45 → \
-         2.39 s (median of 5, 2.34–2.53 and 2.38–2.44). The serial `PairSymmetry::new` of each rebuild was also built per block \
+         2.39 s (median of 5, 2.34–2.53 and 2.38–2.44). **The two-thread 2D runs wait, \
+         measured:** `perf record` of the UL-ENOG plate on two threads (0.25 s): the helper \
+         spins 12–14 % of all samples and the leader waits in `run_tasks` 6 %, while the \
+         serial work of the leader (the pair halves of a new list 2.0 %, the energy budget's \
+         work sums 2.1 %, the rebuild and cell list 1.1 %) is about 5 %; the TL plate: leader \
+         waiting 14 %, helper spinning 11 %. Three remedies were built, measured (Intel Xeon, \
+         the machine otherwise stopped, interleaved, 0.25 s simulated) and dropped: (1) four \
+         tasks per thread instead of one, claimed dynamically: UL-ENOG two threads 2.48 s \
+         (2.41–2.57) against 2.46 s (2.36–2.58), median of 5; (2) the TL pair loops cut at \
+         equal numbers of pairs instead of particles: 0.70 s against 0.70 s (median of 5); \
+         (3) the energy budget's per-particle work computed in the (parallel) kick loop and \
+         summed in particle order after it (same bits): two threads 2.62 s (2.52–2.71) against \
+         2.59 s (2.50–2.64), median of 7, one thread 4.52 against 4.47 s (3 runs). So the \
+         waiting is not the cut of the loops; what is left is entering and leaving them (not \
+         measured separately): a sub-step of the 1,612-particle plate is five parallel loops \
+         of 15–30 µs each on two threads. Fewer, fused loops per step are the remaining lever. \
+         The energy budget costs 12 % on two threads (`--set energy_budget=false`: 2.22 s \
+         against 2.49 s, 4 runs each), most of it in the force gather's per-pair sum of the \
+         Riemann dissipation (moving its serial work sums into the kick loop changed nothing, \
+         above). The serial `PairSymmetry::new` of each rebuild was also built per block \
          on the team, the pairs whose mirror lies in another block computed instead of \
          copied after the parallel region (same bits; Intel Xeon, the other runs on the \
          machine stopped, the two builds interleaved, 0.25 s simulated): two threads \
