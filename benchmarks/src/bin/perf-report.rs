@@ -530,7 +530,10 @@ fn case_timings_section(md: &mut String, root: &Path) {
          sph-benchmarks --bin case-timings`): each scene run as a user runs it (`sph run … \
          --no-output --threads N`, unpinned), median of the repeats with the range; user and \
          system CPU time and peak resident memory (RSS) of the process, the latter also per \
-         particle (– for rows measured before the memory column existed).\n"
+         particle (– for rows measured before the memory column existed). Each row is the \
+         build of the day it was measured: the AMD EPYC rows predate the smaller pair records \
+         and the cross-block refresh above (the UL rows gained 5–8 % in 2D from them on Intel \
+         Xeon), the Intel Xeon rows include them.\n"
     )
     .unwrap();
     for (group, title) in [
