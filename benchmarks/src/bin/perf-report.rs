@@ -118,7 +118,22 @@ fn threads_section(md: &mut String) {
          2.59 s (2.50–2.64), median of 7, one thread 4.52 against 4.47 s (3 runs). So the \
          waiting is not the cut of the loops; what is left is entering and leaving them (not \
          measured separately): a sub-step of the 1,612-particle plate is five parallel loops \
-         of 15–30 µs each on two threads. Fewer, fused loops per step are the remaining lever. \
+         of 15–30 µs each on two threads. **One loop fewer, measured and dropped:** the \
+         drift of the sub-step's first half fused into the refresh's parallel region (each \
+         computed pair drifts its two positions where it needs them, `x_j + h v_j`, the same \
+         bits; the drifted positions go to a second buffer; results files of ten UL scenes \
+         equal dataset by dataset), Intel Xeon, the machine otherwise stopped, interleaved, \
+         0.25 s simulated: two threads 2.88 s (2.82–2.91) against 2.84 s (2.74–2.91), median \
+         of 7; one thread 4.76 s (4.66–5.07) against 4.79 s (4.52–4.94), median of 5; 3D \
+         plate at H/dp 3 to 0.002 s on two threads 31.9 s (30.9–32.1) against 30.8 s \
+         (30.8–32.9), 3 runs. So a parallel loop's entry and exit is not what two threads \
+         lose either; what the waiting is made of (halves of unequal duration, the host's \
+         scheduling of the two virtual cores) is not measured yet. On \
+         the same machine and day the two dropped rewrites of the refresh above were \
+         repeated with the same outcome: the force gather computing its pairs' data, one \
+         thread 5.20 s against 4.32 s, two threads 3.10 s against 2.61 s (median of 5 each, \
+         +20 %); the refresh in groups of four pairs in the baseline (SSE2) build, 4.44 s \
+         against 4.39 s (median of 5; the compiler kept one scalar square root per pair). \
          The energy budget costs 12 % on two threads (`--set energy_budget=false`: 2.22 s \
          against 2.49 s, 4 runs each), most of it in the force gather's per-pair sum of the \
          Riemann dissipation (moving its serial work sums into the kick loop changed nothing, \
