@@ -127,8 +127,22 @@ fn threads_section(md: &mut String) {
          of 7; one thread 4.76 s (4.66–5.07) against 4.79 s (4.52–4.94), median of 5; 3D \
          plate at H/dp 3 to 0.002 s on two threads 31.9 s (30.9–32.1) against 30.8 s \
          (30.8–32.9), 3 runs. So a parallel loop's entry and exit is not what two threads \
-         lose either; what the waiting is made of (halves of unequal duration, the host's \
-         scheduling of the two virtual cores) is not measured yet. On \
+         lose either. **Where two threads lose, counted:** a build with time-stamp counters \
+         around each loop and each task (not kept; 2.6 GHz counter), UL-ENOG plate on two \
+         threads to 0.25 s: 77,000 loops (14,581 sub-steps, 928 advection steps) of 71,000 \
+         cycles (27 µs) on average; the leader's task 66,000 cycles, the helper's 66,400, \
+         their difference 7,000 on average (10 % of a loop), the loop's end beyond the longer \
+         task 1,300 (2 %), the helper's start 1,300 cycles after the loop opens. The loops \
+         are 2.10 s of the 2.64 s run (80 %); the other 0.54 s is the leader's serial work \
+         between them (the pair halves of each new list, the cell list, the energy budget's \
+         sums, the constraints, the monitor), while the helper spins. The two tasks together \
+         are 3.92 s of work: loops split perfectly and entered for free would make the run \
+         1.96 + 0.54 = 2.50 s instead of 2.64 s. So the serial fifth, not the loops' entry and \
+         exit, keeps this plate from scaling, and it is many small pieces (the largest, \
+         `PairSymmetry::new`, is 2 % of the samples of `perf record`). TL plate, same \
+         run: 95,000 loops (9,493 steps) of 17,700 cycles (6.8 µs), leader 16,100, helper \
+         15,000, difference 2,600 (15 %), end beyond the longer task 860 (5 %); the loops \
+         are 0.65 s of 0.73 s (89 %). On \
          the same machine and day the two dropped rewrites of the refresh above were \
          repeated with the same outcome: the force gather computing its pairs' data, one \
          thread 5.20 s against 4.32 s, two threads 3.10 s against 2.61 s (median of 5 each, \
