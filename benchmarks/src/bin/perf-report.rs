@@ -148,6 +148,12 @@ fn threads_section(md: &mut String) {
          thread 5.20 s against 4.32 s, two threads 3.10 s against 2.61 s (median of 5 each, \
          +20 %); the refresh in groups of four pairs in the baseline (SSE2) build, 4.44 s \
          against 4.39 s (median of 5; the compiler kept one scalar square root per pair). \
+         The energy budget's 12 % is per-pair work, not serial: it costs the same share on one \
+         thread (4.31 s against 3.85 s with `--set energy_budget=false`, median of 5) as on \
+         two (2.64 s against 2.36 s), and `perf` puts it in the force gather (35 % more samples \
+         there). Skipping ENOG's zero pair terms (its shear is per particle; the same bits) \
+         gained nothing: one thread 4.29 s against 4.23 s, two 2.56 s against 2.54 s (median \
+         of 5 each). \
          The energy budget costs 12 % on two threads (`--set energy_budget=false`: 2.22 s \
          against 2.49 s, 4 runs each), most of it in the force gather's per-pair sum of the \
          Riemann dissipation (moving its serial work sums into the kick loop changed nothing, \
