@@ -138,8 +138,12 @@ fn threads_section(md: &mut String) {
          sums, the constraints, the monitor), while the helper spins. The two tasks together \
          are 3.92 s of work: loops split perfectly and entered for free would make the run \
          1.96 + 0.54 = 2.50 s instead of 2.64 s. So the serial fifth, not the loops' entry and \
-         exit, keeps this plate from scaling, and it is many small pieces (the largest, \
-         `PairSymmetry::new`, is 2 % of the samples of `perf record`). TL plate, same \
+         exit, keeps this plate from scaling, and it is many small pieces: of all samples of \
+         both threads (`perf record`, same run), the leader's functions other than the loop \
+         bodies have 9.5 %: `PairSymmetry::new` 2.1 %, the sub-step's inline serial work \
+         (energy budget sums, constraints) 1.8 %, libm's `hypot`/`atan2`/`sincos` 1.6 % (the \
+         helper has 0.7 % of them: they are partly in the monitor's parallel loops), the cell \
+         list, reordering and list components 1.5 %. TL plate, same \
          run: 95,000 loops (9,493 steps) of 17,700 cycles (6.8 µs), leader 16,100, helper \
          15,000, difference 2,600 (15 %), end beyond the longer task 860 (5 %); the loops \
          are 0.65 s of 0.73 s (89 %). On \
