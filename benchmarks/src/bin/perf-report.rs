@@ -157,7 +157,13 @@ fn threads_section(md: &mut String) {
          two (2.64 s against 2.36 s), and `perf` puts it in the force gather (35 % more samples \
          there). Skipping ENOG's zero pair terms (its shear is per particle; the same bits) \
          gained nothing: one thread 4.29 s against 4.23 s, two 2.56 s against 2.54 s (median \
-         of 5 each). \
+         of 5 each). TL's stress divergence `Σ_j (S_i + S_j) V_j ∇W_ij` summed as \
+         `S_i G_i + Σ_j S_j V_j ∇W_ij` with `G_i = Σ_j V_j ∇W_ij` fixed with the reference \
+         data (one matrix–vector product per particle instead of a matrix sum per pair; the \
+         rounding changes): twisting column (`case-timings`' row, to 0.1 s) one thread 2.42 s \
+         against 2.46 s (median of 3), two threads 1.66 s against 1.68 s (median of 5), TL \
+         plate 0.99 s against 0.99 s: 1–3 %, not worth changing every result at round-off; \
+         dropped. \
          The energy budget costs 12 % on two threads (`--set energy_budget=false`: 2.22 s \
          against 2.49 s, 4 runs each), most of it in the force gather's per-pair sum of the \
          Riemann dissipation (moving its serial work sums into the kick loop changed nothing, \
