@@ -163,7 +163,9 @@ fn threads_section(md: &mut String) {
          rounding changes): twisting column (`case-timings`' row, to 0.1 s) one thread 2.42 s \
          against 2.46 s (median of 3), two threads 1.66 s against 1.68 s (median of 5), TL \
          plate 0.99 s against 0.99 s: 1–3 %, not worth changing every result at round-off; \
-         dropped. \
+         dropped. `PairSymmetry::new` without a branch per slot (compaction by index, \
+         conditional moves): 516 against 527 of about 20,000 `perf` samples of the UL plate on \
+         one thread, no gain; dropped. \
          The energy budget costs 12 % on two threads (`--set energy_budget=false`: 2.22 s \
          against 2.49 s, 4 runs each), most of it in the force gather's per-pair sum of the \
          Riemann dissipation (moving its serial work sums into the kick loop changed nothing, \
