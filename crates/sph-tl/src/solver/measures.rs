@@ -1,0 +1,136 @@
+//! What the solver reports about its state: momentum, energies, the disorder indicator, the
+//! Cauchy stress of the output fields, and the time series of the tools and named constraints.
+
+use super::*;
+
+impl<D: Dim, M: Material<D>> TlSolver<D, M> {
+    /// Empty series for the tools and named constraints, with a first row at the current time.
+    pub(super) fn rebuild_series(&mut self) {
+        let axes: &[&str] = if D::D == 2 {
+            &["force_x", "force_y"]
+        } else {
+            &["force_x", "force_y", "force_z"]
+        };
+        let mut series = Vec::new();
+        for t in &self.tools {
+            let mut columns = vec!["displacement"];
+            columns.extend_from_slice(axes);
+            columns.push("contacts");
+            series.push(Series::new(&t.name, &columns));
+        }
+        let pos: &[&str] = if D::D == 2 {
+            &["x", "y"]
+        } else {
+            &["x", "y", "z"]
+        };
+        for (_, name) in self.constraints.named() {
+            let mut columns = pos.to_vec();
+            columns.extend_from_slice(axes);
+            series.push(Series::new(name, &columns));
+        }
+        self.series = series;
+        self.tool_contacts = vec![0; self.tools.len()];
+        self.record_series();
+    }
+
+    /// Appends one row to every series: tools' travel, mean reactions since the last row.
+    pub(super) fn record_series(&mut self) {
+        let t = self.time;
+        let mut row = Vec::with_capacity(8);
+        for (k, tool) in self.tools.iter().enumerate() {
+            row.clear();
+            row.push(tool.motion.distance(t));
+            let f = self.tool_meters[k].take_mean();
+            row.extend((0..D::D).map(|c| D::component(f, c)));
+            row.push(self.tool_contacts[k] as f64);
+            self.series[k].push(t, &row);
+        }
+        let offset = self.tools.len();
+        let named: Vec<usize> = self.constraints.named().map(|(k, _)| k).collect();
+        for (g, k) in named.into_iter().enumerate() {
+            let particles = self.constraints.get(k).expect("named").particles();
+            let mut mean = D::zero();
+            for &i in particles {
+                mean += self.positions[i as usize];
+            }
+            mean = mean / particles.len().max(1) as f64;
+            row.clear();
+            row.extend((0..D::D).map(|c| D::component(mean, c)));
+            let f = self.grip_meters[g].take_mean();
+            row.extend((0..D::D).map(|c| D::component(f, c)));
+            self.series[offset + g].push(t, &row);
+        }
+    }
+
+    /// The masses of the particles that count in sums over the body (zero for a rank's halo).
+    pub(super) fn counted_masses(&self) -> std::borrow::Cow<'_, [f64]> {
+        match &self.domain {
+            None => std::borrow::Cow::Borrowed(&self.masses),
+            Some(d) => std::borrow::Cow::Owned(
+                self.masses
+                    .iter()
+                    .zip(d.owned())
+                    .map(|(&m, &o)| if o { m } else { 0.0 })
+                    .collect(),
+            ),
+        }
+    }
+
+    /// Total linear momentum `Σ m v` (over all ranks in a distributed run).
+    pub fn linear_momentum(&self) -> D::Vector {
+        let p = diagnostics::linear_momentum::<D>(&self.velocities, &self.counted_masses());
+        if self.domain.is_none() {
+            return p;
+        }
+        let v = D::to_vec3(p);
+        let s = self.domain.sum_over_ranks(&[v.x, v.y, v.z]);
+        D::vector([s[0], s[1], s[2]])
+    }
+
+    /// Total angular momentum `Σ m x × v` about the origin (3-vector; only `z` in 2D; over all
+    /// ranks in a distributed run).
+    pub fn angular_momentum(&self) -> glam::DVec3 {
+        let l = diagnostics::angular_momentum::<D>(
+            &self.positions,
+            &self.velocities,
+            &self.counted_masses(),
+        );
+        let s = self.domain.sum_over_ranks(&[l.x, l.y, l.z]);
+        glam::DVec3::new(s[0], s[1], s[2])
+    }
+
+    /// Kinetic and strain energy (over all ranks in a distributed run).
+    pub fn energy(&self) -> Energy {
+        let kinetic = diagnostics::kinetic_energy::<D>(&self.velocities, &self.counted_masses());
+        let strain = self
+            .deformation
+            .iter()
+            .zip(&self.volumes)
+            .enumerate()
+            .filter(|(i, _)| self.domain.counts(*i))
+            .map(|(_, (&f, &v))| v * self.material.strain_energy_density(f).unwrap_or(f64::NAN))
+            .sum();
+        let s = self.domain.sum_over_ranks(&[kinetic, strain]);
+        Energy {
+            kinetic: s[0],
+            strain: s[1],
+        }
+    }
+
+    /// The disorder indicator of docs/methods.md per particle.
+    pub fn disorder(&self) -> Vec<f64> {
+        disorder_indicator::<D>(
+            &self.list,
+            ReferenceWeights::Kernel(&self.kernel),
+            &self.reference,
+            &self.positions,
+            &self.deformation,
+        )
+    }
+
+    /// Cauchy stress (3×3, elastic part) of the law (every variant represents the material's
+    /// law; see [`hourglass_free`] for the HF split).
+    pub(super) fn cauchy_3d(&self, f: D::Matrix) -> glam::DMat3 {
+        self.material.cauchy_stress_3d(f)
+    }
+}
