@@ -71,7 +71,7 @@ pub fn ul_params() -> Vec<Param> {
             true,
             "recompute e_ij, r_ij, W′ from the current positions in every acoustic sub-step \
              (the list and B stay those of the rebuild); false = docs/methods.md's frozen data: \
-             1.4–1.6× faster per sub-step but the plate softens secularly (period +7 % in 3 s)",
+             1.34–1.39× faster per sub-step but the plate softens secularly (period +7 % in 3 s)",
         ),
         Param::bool(
             "allow_fracture",
