@@ -436,6 +436,9 @@ pub trait OverRanks {
     fn sum_over_ranks(&self, x: &[f64]) -> Vec<f64>;
     /// Whether particle `i` counts in sums over the body (the owned ones on a rank).
     fn counts(&self, i: usize) -> bool;
+    /// Per-particle weights (e.g. masses) for sums over the body: `values` with the entries of
+    /// the particles that do not count (a rank's halo) set to zero; borrowed when all count.
+    fn counted<'a>(&self, values: &'a [f64]) -> std::borrow::Cow<'a, [f64]>;
     /// A local result every rank must agree on: if another rank failed, this one fails too (so
     /// no rank waits for a partner that stopped).
     ///
@@ -463,6 +466,19 @@ impl OverRanks for Option<Arc<Domain>> {
 
     fn counts(&self, i: usize) -> bool {
         self.as_ref().is_none_or(|d| d.owned()[i])
+    }
+
+    fn counted<'a>(&self, values: &'a [f64]) -> std::borrow::Cow<'a, [f64]> {
+        match self {
+            None => std::borrow::Cow::Borrowed(values),
+            Some(d) => std::borrow::Cow::Owned(
+                values
+                    .iter()
+                    .zip(d.owned())
+                    .map(|(&m, &o)| if o { m } else { 0.0 })
+                    .collect(),
+            ),
+        }
     }
 
     fn agree(&self, result: Result<(), Error>) -> Result<(), Error> {

@@ -62,23 +62,10 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         }
     }
 
-    /// The masses of the particles that count in sums over the body (zero for a rank's halo).
-    pub(super) fn counted_masses(&self) -> std::borrow::Cow<'_, [f64]> {
-        match &self.domain {
-            None => std::borrow::Cow::Borrowed(&self.masses),
-            Some(d) => std::borrow::Cow::Owned(
-                self.masses
-                    .iter()
-                    .zip(d.owned())
-                    .map(|(&m, &o)| if o { m } else { 0.0 })
-                    .collect(),
-            ),
-        }
-    }
-
     /// Total linear momentum `Σ m v` (over all ranks in a distributed run).
     pub fn linear_momentum(&self) -> D::Vector {
-        let p = diagnostics::linear_momentum::<D>(&self.velocities, &self.counted_masses());
+        let p =
+            diagnostics::linear_momentum::<D>(&self.velocities, &self.domain.counted(&self.masses));
         if self.domain.is_none() {
             return p;
         }
@@ -93,7 +80,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         let l = diagnostics::angular_momentum::<D>(
             &self.positions,
             &self.velocities,
-            &self.counted_masses(),
+            &self.domain.counted(&self.masses),
         );
         let s = self.domain.sum_over_ranks(&[l.x, l.y, l.z]);
         glam::DVec3::new(s[0], s[1], s[2])
@@ -101,7 +88,8 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
 
     /// Kinetic and strain energy (over all ranks in a distributed run).
     pub fn energy(&self) -> Energy {
-        let kinetic = diagnostics::kinetic_energy::<D>(&self.velocities, &self.counted_masses());
+        let kinetic =
+            diagnostics::kinetic_energy::<D>(&self.velocities, &self.domain.counted(&self.masses));
         let strain = self
             .deformation
             .iter()
