@@ -1,0 +1,73 @@
+//! The progress display of a run: a bar on a terminal, log lines otherwise.
+
+use super::*;
+
+/// The progress display: a bar on a terminal; otherwise a line on stderr every `log_every`
+/// seconds of wall time (and at the end), so a batch job's log shows where the run is.
+pub(super) fn progress_display(
+    terminal: bool,
+    log_every: f64,
+) -> Result<Option<ProgressSink>, CaseError> {
+    if !(log_every.is_finite() && log_every >= 0.0) {
+        return Err(CaseError::InvalidValue {
+            key: "--log-every".into(),
+            value: log_every.to_string(),
+            allowed: "seconds >= 0 (0: no log lines)".into(),
+        });
+    }
+    const SCALE: f64 = 1e6;
+    if terminal {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr_with_hz(4));
+        bar.set_style(
+            ProgressStyle::with_template("{bar:30} t = {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        return Ok(Some(ProgressSink::new(move |p: &Progress| {
+            if p.finished {
+                bar.finish_and_clear();
+                return;
+            }
+            bar.set_length((p.end_time * SCALE) as u64);
+            bar.set_position((p.time * SCALE) as u64);
+            bar.set_message(format!(
+                "{:.4} / {:.4} s  {:.3e} particle-steps/s",
+                p.time,
+                p.end_time,
+                p.particle_steps_per_second()
+            ));
+        })));
+    }
+    if log_every == 0.0 {
+        return Ok(None);
+    }
+    let last = std::sync::Mutex::new(0.0f64);
+    Ok(Some(ProgressSink::new(move |p: &Progress| {
+        let mut last = last.lock().unwrap_or_else(|e| e.into_inner());
+        // A line every `log_every` seconds, and a last one at the end of a run that printed
+        // any (a short run prints none).
+        let due = if p.finished {
+            *last > 0.0
+        } else {
+            p.wall_seconds - *last >= log_every
+        };
+        if !due {
+            return;
+        }
+        *last = p.wall_seconds;
+        let done = (p.time / p.end_time).clamp(0.0, 1.0);
+        let eta = if done > 0.0 {
+            format!("{:.0} s", p.wall_seconds * (1.0 - done) / done)
+        } else {
+            "–".into()
+        };
+        eprintln!(
+            "t = {:.6e} / {:.6e} s ({:.1} %), {} steps, {:.3e} particle-steps/s, {:.0} s elapsed, ETA {eta}",
+            p.time,
+            p.end_time,
+            100.0 * done,
+            p.steps,
+            p.particle_steps_per_second(),
+            p.wall_seconds
+        );
+    })))
+}
