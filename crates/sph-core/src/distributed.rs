@@ -439,6 +439,16 @@ pub trait OverRanks {
     /// Per-particle weights (e.g. masses) for sums over the body: `values` with the entries of
     /// the particles that do not count (a rank's halo) set to zero; borrowed when all count.
     fn counted<'a>(&self, values: &'a [f64]) -> std::borrow::Cow<'a, [f64]>;
+    /// Total linear momentum `Σ m v` of the particles that count, summed over the ranks.
+    fn linear_momentum<D: Dim>(&self, velocities: &[D::Vector], masses: &[f64]) -> D::Vector;
+    /// Total angular momentum `Σ m x × v` about the origin (3-vector; only `z` in 2D) of the
+    /// particles that count, summed over the ranks.
+    fn angular_momentum<D: Dim>(
+        &self,
+        positions: &[D::Vector],
+        velocities: &[D::Vector],
+        masses: &[f64],
+    ) -> glam::DVec3;
     /// A local result every rank must agree on: if another rank failed, this one fails too (so
     /// no rank waits for a partner that stopped).
     ///
@@ -466,6 +476,28 @@ impl OverRanks for Option<Arc<Domain>> {
 
     fn counts(&self, i: usize) -> bool {
         self.as_ref().is_none_or(|d| d.owned()[i])
+    }
+
+    fn linear_momentum<D: Dim>(&self, velocities: &[D::Vector], masses: &[f64]) -> D::Vector {
+        let p = crate::diagnostics::linear_momentum::<D>(velocities, &self.counted(masses));
+        if self.is_none() {
+            return p;
+        }
+        let v = D::to_vec3(p);
+        let s = self.sum_over_ranks(&[v.x, v.y, v.z]);
+        D::vector([s[0], s[1], s[2]])
+    }
+
+    fn angular_momentum<D: Dim>(
+        &self,
+        positions: &[D::Vector],
+        velocities: &[D::Vector],
+        masses: &[f64],
+    ) -> glam::DVec3 {
+        let l =
+            crate::diagnostics::angular_momentum::<D>(positions, velocities, &self.counted(masses));
+        let s = self.sum_over_ranks(&[l.x, l.y, l.z]);
+        glam::DVec3::new(s[0], s[1], s[2])
     }
 
     fn counted<'a>(&self, values: &'a [f64]) -> std::borrow::Cow<'a, [f64]> {

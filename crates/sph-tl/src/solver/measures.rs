@@ -64,26 +64,15 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
 
     /// Total linear momentum `Σ m v` (over all ranks in a distributed run).
     pub fn linear_momentum(&self) -> D::Vector {
-        let p =
-            diagnostics::linear_momentum::<D>(&self.velocities, &self.domain.counted(&self.masses));
-        if self.domain.is_none() {
-            return p;
-        }
-        let v = D::to_vec3(p);
-        let s = self.domain.sum_over_ranks(&[v.x, v.y, v.z]);
-        D::vector([s[0], s[1], s[2]])
+        self.domain
+            .linear_momentum::<D>(&self.velocities, &self.masses)
     }
 
     /// Total angular momentum `Σ m x × v` about the origin (3-vector; only `z` in 2D; over all
     /// ranks in a distributed run).
     pub fn angular_momentum(&self) -> glam::DVec3 {
-        let l = diagnostics::angular_momentum::<D>(
-            &self.positions,
-            &self.velocities,
-            &self.domain.counted(&self.masses),
-        );
-        let s = self.domain.sum_over_ranks(&[l.x, l.y, l.z]);
-        glam::DVec3::new(s[0], s[1], s[2])
+        self.domain
+            .angular_momentum::<D>(&self.positions, &self.velocities, &self.masses)
     }
 
     /// Kinetic and strain energy (over all ranks in a distributed run).
