@@ -557,10 +557,11 @@ fn report_budget(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), S
          second residual column uses those instead of the estimates, so it measures only the \
          time integration and the hypoelastic term; their difference is the estimates' error. \
          Tests: `energy_budget_closes_on_a_free_oscillation`, \
-         `contact_conserves_momentum_and_the_budget_closes` (sph-ul). The cost of the budget \
-         (one more vector sum in the force gather, one pass of dot products per acoustic \
-         step): +7 % CPU time on the 2D rings with ENOG, +2 % on the 3D balls with OG (one \
-         thread, user time, median of 3, measured under load; commands in the doc of \
+         `contact_conserves_momentum_and_the_budget_closes` (sph-ul, `tests/energy.rs`). The \
+         cost of the budget (one more vector sum in the force gather, one pass of dot products \
+         per acoustic step): +12 % wall time on the 2D plate with ENOG, on one and on two \
+         threads (quiet Intel Xeon, median of 5; earlier, under load: +7 % CPU time on the 2D \
+         rings with ENOG, +2 % on the 3D balls with OG; commands in the doc of \
          `UlParams::energy_budget`); `energy_budget = false` turns it off.\n"
     )
     .unwrap();

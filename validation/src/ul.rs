@@ -649,7 +649,11 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         md,
         "Plate 0.4 × 0.4 × 0.01 m, E = 100 MPa, ν = 0.3, ρ = 1000, SPH-ENOG; supports: z held at \
          the mid-thickness particles of the four sides; v_z = sin(mπx/L) sin(nπy/W) m/s; the \
-         first period of the observation point (t ≤ 2 T). Target: within 3 % of the paper.\n"
+         first period of the observation point (t ≤ 2 T). Target: within 3 % of the paper. \
+         Particle-steps/s count acoustic steps, each row on the machine and build of the day it \
+         was run (two threads for the H/dp = 5 rows): the (1, 1) row at H/dp = 5 was run on a \
+         later build with the smaller pair records and the cross-block refresh of \
+         docs/performance.md, the other two before them.\n"
     )
     .unwrap();
     writeln!(
