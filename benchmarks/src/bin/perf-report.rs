@@ -176,6 +176,28 @@ fn threads_section(md: &mut String) {
          2.44 s (2.42–2.45, median of 5) against 2.41 s (2.38–2.43), one thread 3.99 s \
          (3.97–3.99, 3 runs) against 3.93 s (3.89–3.96): the per-block construction costs more \
          than the serial one it replaces, dropped.\n\n\
+         **The twisting column, and the bounds checks of the pair loops.** `perf record` of \
+         the anchor run on one thread (`sph run twisting-column-3d --method tl-hf --set \
+         h_over_dp=1.3 --set resolution=10 --set end_time=0.5 --set nu=0.45 --set \
+         omega0=400 --set clamp_layers=1 --set cfl=0.5 --no-output --threads 1`, Intel Xeon, \
+         2026-12-03): the HF acceleration (eq 20 with the Laplacian shear, eq 27) 49 %, the \
+         deformation rate (eq 22) 29 %, the disorder indicator of the monitor's 200 samples \
+         6 % (one sample costs about 1.7 HF passes: two square roots and a kernel value per \
+         pair, a latency chain), the stress update 5 % and the cube root of its `J^(−2/3)` \
+         another 5 %, the half steps 2 %. Every neighbour read `v[j]` of a pair loop was \
+         bounds-checked; the checks are gone (`NeighborList::values` checks the length once \
+         against the list's largest index, kept with the list), the same bits (the results \
+         files of sixteen scenes of all seven methods equal dataset by dataset). Instructions \
+         (`valgrind --tool=cachegrind`, one thread, to t = 0.02 s): the twisting column \
+         1.568·10¹⁰ → 1.458·10¹⁰ (−7.0 %; HF acceleration −13 %, deformation rate −6.6 %, \
+         disorder −4.9 %), the UL-ENOG plate 7.568·10⁹ → 7.097·10⁹ (−6.2 %; force gather \
+         −15 %, rate gather −14 %), the MPS cantilever plate (`cantilever-plate-2d --method \
+         mps`) 6.746·10⁹ → 6.405·10⁹ (−5.1 %). Their wall time could not be resolved that \
+         day: the machine ran at about half its speed of 2026-12-02 with ±20 % between \
+         repeats of the same binary (UL-ENOG plate to 0.25 s on one thread, nine interleaved \
+         runs each: 7.01–10.31 s before, 6.90–10.19 s after; twisting column to 0.1 s, eight \
+         each: 3.90–5.52 s and 3.96–5.80 s); kept for the instructions, to be timed on a \
+         quiet machine.\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \

@@ -47,14 +47,16 @@ pub fn disorder_indicator<D: Dim>(
     current: &[D::Vector],
     deformation: &[D::Matrix],
 ) -> Vec<f64> {
+    let (x0_j, x_j) = (list.values(reference), list.values(current));
     let disorder_of = |i: usize| {
-        let f = deformation[i];
+        let (f, x0_i, x_i) = (deformation[i], reference[i], current[i]);
         let mut num = 0.0;
         let mut den = 0.0;
         for (k, &j) in list.range(i).zip(list.neighbors(i)) {
-            let j = j as usize;
-            let xij0 = reference[i] - reference[j];
-            let xij = current[i] - current[j];
+            // SAFETY: `j` is an index of `list`, which made the views.
+            let (x0_j, x_j) = unsafe { (x0_j.at(j as usize), x_j.at(j as usize)) };
+            let xij0 = x0_i - x0_j;
+            let xij = x_i - x_j;
             let (w, r) = weights.at(k, xij0);
             num += w * D::norm(f * xij0 - xij);
             den += w * r;
@@ -79,15 +81,18 @@ pub fn affine_fit<D: Dim>(
     reference: &[D::Vector],
     current: &[D::Vector],
 ) -> Vec<D::Matrix> {
+    let (x0_j, x_j) = (list.values(reference), list.values(current));
     let fit_of = |i: usize| {
+        let (x0_i, x_i) = (reference[i], current[i]);
         let mut a = D::zero_matrix();
         let mut b = D::zero_matrix();
         let mut wsum = 0.0;
         let mut r2sum = 0.0;
         for (k, &j) in list.range(i).zip(list.neighbors(i)) {
-            let j = j as usize;
-            let xij0 = reference[i] - reference[j];
-            let xij = current[i] - current[j];
+            // SAFETY: `j` is an index of `list`, which made the views.
+            let (x0_j, x_j) = unsafe { (x0_j.at(j as usize), x_j.at(j as usize)) };
+            let xij0 = x0_i - x0_j;
+            let xij = x_i - x_j;
             let (w, r) = weights.at(k, xij0);
             a += D::outer(xij0 * w, xij0);
             b += D::outer(xij * w, xij0);

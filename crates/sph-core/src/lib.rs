@@ -41,7 +41,7 @@ pub use body::Body;
 pub use dim::{Dim, D2, D3};
 pub use error::Error;
 pub use kernel::{Kernel, WendlandC2};
-pub use neighbor::{CellGrid, NeighborList};
+pub use neighbor::{CellGrid, NeighborList, NeighbourValues};
 pub use pairs::PairKernel;
 pub use relaxation::{PairwiseDamper, PairwiseDamping};
 pub use scene::{Constraint, Constraints, Loads, Probe, Series, TimeFunction};

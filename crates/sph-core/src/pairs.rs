@@ -267,6 +267,7 @@ impl PairSymmetry {
         );
         assert_eq!(out.len(), self.pairs, "pair buffer length");
         let (offsets, indices) = (list.offsets(), list.indices());
+        let x_j = list.values(positions);
         crate::parallel::gather_blocks(offsets, out, &|rows, block: &mut [PairKernel<D>]| {
             let base = offsets[rows.start];
             for i in rows.clone() {
@@ -275,7 +276,9 @@ impl PairSymmetry {
                 let cross = &self.cross[self.cross_start[i]..self.cross_start[i + 1]];
                 for &k in upper.iter().chain(cross) {
                     let j = indices[k as usize] as usize;
-                    block[k as usize - base] = pair_kernel::<D, K>(xi - positions[j], kernel);
+                    // SAFETY: `j` is an index of `list`, which made the view.
+                    let x_j = unsafe { x_j.at(j) };
+                    block[k as usize - base] = pair_kernel::<D, K>(xi - x_j, kernel);
                 }
             }
             for &(k, m) in &self.local[self.local_start[rows.start]..self.local_start[rows.end]] {

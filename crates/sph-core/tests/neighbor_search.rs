@@ -6,7 +6,7 @@ use glam::{DVec2, DVec3};
 use proptest::prelude::*;
 use sph_core::neighbor::{
     apply_permutation, contact_list_kdtree, invert_permutation, neighbor_list_cells,
-    neighbor_list_kdtree, CellGrid,
+    neighbor_list_kdtree, CellGrid, NeighborList,
 };
 use sph_core::{Dim, Kernel, WendlandC2, D2, D3};
 
@@ -37,6 +37,12 @@ fn check_all_agree<D: Dim>(x: &[D::Vector], rc: f64) {
     for (i, b) in brute.iter().enumerate() {
         assert_eq!(cells.neighbors(i), &b[..], "particle {i}");
     }
+    assert_eq!(cells.index_bound(), index_bound(&brute));
+}
+
+/// One more than the largest index of `rows` (0 when there is none).
+fn index_bound(rows: &[Vec<u32>]) -> usize {
+    rows.iter().flatten().max().map_or(0, |&m| m as usize + 1)
 }
 
 fn vec2s(v: &[(f64, f64)]) -> Vec<DVec2> {
@@ -142,7 +148,28 @@ proptest! {
         for (i, bl) in brute.iter().enumerate() {
             prop_assert_eq!(cells.neighbors(i), &bl[..]);
         }
+        prop_assert_eq!(cells.index_bound(), index_bound(&brute));
     }
+}
+
+#[test]
+fn neighbour_values_are_checked_once_against_the_largest_index() {
+    let list = NeighborList::from_parts(vec![0, 2, 2, 3], vec![1, 4, 0]).unwrap();
+    assert_eq!(list.index_bound(), 5);
+    let values = [10.0, 11.0, 12.0, 13.0, 14.0];
+    let v = list.values(&values);
+    // SAFETY: the indices are those of `list`.
+    let row: Vec<f64> = list
+        .neighbors(0)
+        .iter()
+        .map(|&j| unsafe { v.at(j as usize) })
+        .collect();
+    assert_eq!(row, [11.0, 14.0]);
+    let short = std::panic::catch_unwind(|| list.values(&values[..4]));
+    assert!(short.is_err(), "4 values for indices up to 4 must panic");
+    let empty = NeighborList::from_parts(vec![0, 0], vec![]).unwrap();
+    assert_eq!(empty.index_bound(), 0);
+    let _ = empty.values::<f64>(&[]);
 }
 
 #[test]

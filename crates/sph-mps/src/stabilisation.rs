@@ -109,16 +109,23 @@ impl<D: Dim> Stabilisation<D> {
         deformation: &[D::Matrix],
         forces: &mut [D::Vector],
     ) {
+        let (x_j, f_j, s_j) = (
+            list.values(x),
+            list.values(deformation),
+            list.values(&self.scale),
+        );
         gather(forces, |i, out| {
             let (si, fi, xi) = (self.scale[i], deformation[i], x[i]);
             let mut f = D::zero();
             for (k, &j) in list.range(i).zip(list.neighbors(i)) {
                 let j = j as usize;
-                let xij = x[j] - xi;
+                // SAFETY: `j` is an index of `list`, which made the views.
+                let (x_j, f_j, s_j) = unsafe { (x_j.at(j), f_j.at(j), s_j.at(j)) };
+                let xij = x_j - xi;
                 let r_ij = xij - fi * self.reference[k];
                 // r_ji = x_ji − F_j X_ji = −(x_ij − F_j X_ij).
-                let r_ji = (deformation[j] * self.reference[k]) - xij;
-                f += (r_ij * si - r_ji * self.scale[j]) * self.pair[k];
+                let r_ji = (f_j * self.reference[k]) - xij;
+                f += (r_ij * si - r_ji * s_j) * self.pair[k];
             }
             *out += f;
         });

@@ -213,17 +213,20 @@ impl Cholesky<'_> {
     }
 }
 
-/// Eq 4 for particle `i` in gradient-vector form: `F_i = Σ_j x_ij ⊗ g_ij`, `x_ij = x_j − x_i`.
+/// Eq 4 for particle `i` in gradient-vector form: `F_i = Σ_j x_ij ⊗ g_ij`, `x_ij = x_j − x_i`,
+/// with `g` the gradient vectors of every slot of `list`.
 #[inline(always)]
 pub fn deformation_gradient<D: Dim>(
-    xi: D::Vector,
-    neighbors: &[u32],
+    list: &NeighborList,
+    i: usize,
     g: &[D::Vector],
     x: &[D::Vector],
 ) -> D::Matrix {
+    let (xi, x_j) = (x[i], list.values(x));
     let mut f = D::zero_matrix();
-    for (&j, &v) in neighbors.iter().zip(g) {
-        f += D::outer(x[j as usize] - xi, v);
+    for (&j, &v) in list.neighbors(i).iter().zip(&g[list.range(i)]) {
+        // SAFETY: `j` is an index of `list`, which made the view.
+        f += D::outer(unsafe { x_j.at(j as usize) } - xi, v);
     }
     f
 }
@@ -240,7 +243,7 @@ pub fn deformation_and_stress<D: Dim, M: Material<D>>(
     stress_term: &mut [D::Matrix],
 ) {
     gather2(deformation, stress_term, |i, f, t| {
-        *f = deformation_gradient::<D>(x[i], list.neighbors(i), &g[list.range(i)], x);
+        *f = deformation_gradient::<D>(list, i, g, x);
         *t = material.first_piola_kirchhoff(*f) * volumes[i];
     });
 }
@@ -255,12 +258,14 @@ pub fn internal_forces<D: Dim>(
     stress_term: &[D::Matrix],
     forces: &mut [D::Vector],
 ) {
+    let t_j = list.values(stress_term);
     gather(forces, |i, out| {
         let ti = stress_term[i];
         let mut f = D::zero();
         let r = list.range(i);
         for ((&j, &gij), &gji) in list.neighbors(i).iter().zip(&g[r.clone()]).zip(&g_rev[r]) {
-            f += ti * gij - stress_term[j as usize] * gji;
+            // SAFETY: `j` is an index of `list`, which made the view.
+            f += ti * gij - unsafe { t_j.at(j as usize) } * gji;
         }
         *out = f;
     });

@@ -40,9 +40,13 @@ pub fn stress_divergence<D: Dim>(
     inv_density: f64,
     acc: &mut [D::Vector],
 ) {
+    let stress_j = pairs.list().values(stress);
     gather(acc, |i, a| {
         let si = stress[i];
-        let sum = pairs.fold_gradient(i, D::zero(), move |sum, j, g| sum + (si + stress[j]) * g);
+        let sum = pairs.fold_gradient(i, D::zero(), move |sum, j, g| {
+            // SAFETY: the rows visit the indices of `pairs.list()`, which made the view.
+            sum + (si + unsafe { stress_j.at(j) }) * g
+        });
         *a = sum * inv_density;
     });
 }
@@ -54,10 +58,12 @@ pub fn deformation_rate<D: Dim>(
     velocities: &[D::Vector],
     f_dot: &mut [D::Matrix],
 ) {
+    let velocity_j = pairs.list().values(velocities);
     gather(f_dot, |i, fd| {
         let vi = velocities[i];
         let sum = pairs.fold_gradient(i, D::zero_matrix(), move |sum, j, g| {
-            sum + D::outer(velocities[j] - vi, g)
+            // SAFETY: the rows visit the indices of `pairs.list()`, which made the view.
+            sum + D::outer(unsafe { velocity_j.at(j) } - vi, g)
         });
         *fd = sum * correction[i];
     });

@@ -213,6 +213,7 @@ impl<D: Dim> UlSolver<D> {
             &self.masses,
             &self.free,
         );
+        let (x_v_j, vol_j, p_j) = (list.values(x_v), list.values(vol), list.values(p));
         let (g, rho0, c0, scheme) = (self.g, self.rho0, self.c0, self.params.riemann);
         let rho0_c0 = rho0 * c0;
         let columns = (
@@ -234,13 +235,19 @@ impl<D: Dim> UlSolver<D> {
                 let mut l = D::zero_matrix();
                 let mut lap = D::zero();
                 for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
-                    let j = j as usize;
-                    let v_j = vol[j];
-                    let v_ij = v_i - x_v[j];
+                    // SAFETY: `j` is an index of `list`, which made the three views.
+                    let (v_j, x_v_j, p_j) = unsafe {
+                        (
+                            vol_j.at(j as usize),
+                            x_v_j.at(j as usize),
+                            p_j.at(j as usize),
+                        )
+                    };
+                    let v_ij = v_i - x_v_j;
                     let u = D::dot(v_ij, pk.e);
                     drho += u * pk.dw * v_j;
                     if JUMP {
-                        jump += continuity_jump(p_i, p[j], rho0_c0, scheme) * pk.dw * v_j;
+                        jump += continuity_jump(p_i, p_j, rho0_c0, scheme) * pk.dw * v_j;
                     }
                     if GRAD {
                         l += velocity_gradient_pair::<D>(v_ij, pk.e, pk.dw, v_j);
@@ -382,6 +389,11 @@ impl<D: Dim> UlSolver<D> {
         );
         let (rho0, c0, scheme) = (self.rho0, self.c0, self.params.riemann);
         let (v_i, p_i, inv_rho_i) = (vel[i], p[i], 1.0 / rho[i]);
+        let (vel_j, vol_j, p_j) = (
+            self.list.values(vel),
+            self.list.values(vol),
+            self.list.values(p),
+        );
         let mut acc = D::zero();
         let mut parts = [D::zero(); 2];
         for (pk, &j) in self.pairs[self.list.range(i)]
@@ -389,10 +401,12 @@ impl<D: Dim> UlSolver<D> {
             .zip(self.list.neighbors(i))
         {
             let j = j as usize;
-            let vj_rho_i = vol[j] * inv_rho_i;
-            let u = D::dot(v_i - vel[j], pk.e);
+            // SAFETY: `j` is an index of `self.list`, which made the three views.
+            let (vol_j, vel_j, p_j) = unsafe { (vol_j.at(j), vel_j.at(j), p_j.at(j)) };
+            let vj_rho_i = vol_j * inv_rho_i;
+            let u = D::dot(v_i - vel_j, pk.e);
             let p_diss = dissipative_pressure(u, rho0, c0, scheme);
-            let p_star = 0.5 * (p_i + p[j]) + p_diss;
+            let p_star = 0.5 * (p_i + p_j) + p_diss;
             acc += pk.e * pressure_pair_factor(p_star, pk.dw, vj_rho_i);
             let (elastic, artificial) = shear.pair(i, j, pk, vj_rho_i);
             acc += elastic + artificial;
