@@ -1,0 +1,157 @@
+//! Building an MPS solver ([`MpsSolver::new`]): neighbours within `r_e`, the weights of eq 6
+//! and `A_i⁻¹` of eq 5 in the reference configuration, and the forces of the initial state.
+
+use super::{MpsParams, MpsSolver};
+use crate::stabilisation::Stabilisation;
+use crate::wls::{self, weight, Fit};
+use rayon::prelude::*;
+use sph_core::error::{check_non_negative, check_positive};
+use sph_core::neighbor::CellGrid;
+use sph_core::scene::ProbeSchedule;
+use sph_core::{Body, Constraints, Dim, Error, Loads};
+use sph_materials::Material;
+
+impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
+    /// Builds the solver: neighbours within `r_e`, the weights of eq 6 and `A_i⁻¹` of eq 5 in
+    /// the reference configuration, and the forces of the initial state.
+    ///
+    /// # Errors
+    /// Empty body, mismatched array lengths, non-positive `dp`/volumes, `re_over_l0 ≤ 1`,
+    /// `courant ≤ 0`, negative damping, non-finite or coincident positions, a material without
+    /// strain energy, or a particle with fewer than `D + 1` neighbours
+    /// ([`Error::TooFewNeighbours`]: its `A_i` is singular or nearly so).
+    pub fn new(body: impl Into<Body<D>>, material: M, params: MpsParams) -> Result<Self, Error> {
+        let body: Body<D> = body.into();
+        body.validate("mps body")?;
+        body.reject_densities("mps")?;
+        if !(params.re_over_l0.is_finite() && params.re_over_l0 > 1.0) {
+            return Err(Error::invalid(
+                "re_over_l0",
+                params.re_over_l0,
+                "finite and > 1 (r_e must reach beyond the nearest neighbours)",
+            ));
+        }
+        check_positive("courant", params.courant)?;
+        check_non_negative("damping", params.damping)?;
+        check_non_negative("stabilisation", params.stabilisation)?;
+        check_positive("moment_min_eigenvalue", params.moment_min_eigenvalue)?;
+        let n = body.len();
+        let velocities = body.velocities_or_rest();
+        if material.strain_energy_density(D::identity()).is_none() {
+            return Err(Error::invalid(
+                "material",
+                material.name(),
+                "a hyperelastic law with a strain energy (the Hamiltonian needs ψ)",
+            ));
+        }
+        let constants = *material.constants();
+        let (density, sound_speed) = (constants.density, constants.sound_speed);
+        let re = params.re_over_l0 * body.dp;
+        let reference = body.positions;
+        let list = CellGrid::<D>::build(&reference, re)?.neighbor_list(&reference, re)?;
+        if let Some(i) = (0..n).find(|&i| list.count(i) < D::D + 1) {
+            return Err(Error::TooFewNeighbours {
+                particle: i,
+                found: list.count(i),
+                required: D::D + 1,
+            });
+        }
+        // Per-pair reference data (eq 6), in list order: (w_ij, X_ij).
+        let mut pairs = vec![(0.0, D::zero()); list.num_pairs()];
+        for i in 0..n {
+            for (k, &j) in list.range(i).zip(list.neighbors(i)) {
+                let xij = reference[j as usize] - reference[i];
+                let r = D::norm(xij);
+                if r <= 0.0 {
+                    return Err(Error::invalid(
+                        "positions",
+                        format!("particle {i} coincides with particle {j}"),
+                        "distinct reference positions",
+                    ));
+                }
+                pairs[k] = (weight(r, re), xij);
+            }
+        }
+        let ref_weights: Vec<f64> = pairs.iter().map(|&(w, _)| w).collect();
+        let inv: Vec<(D::Matrix, bool)> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                wls::moment_inverse::<D>(
+                    pairs[list.range(i)].iter().copied(),
+                    params.moment_min_eigenvalue,
+                )
+            })
+            .collect();
+        let a_inv: Vec<D::Matrix> = inv.iter().map(|r| r.0).collect();
+        let fits: Vec<(Vec<D::Vector>, bool)> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let own = &pairs[list.range(i)];
+                match params.fit {
+                    Fit::Linear => (
+                        own.iter().map(|&(w, x)| a_inv[i] * (x * w)).collect(),
+                        inv[i].1,
+                    ),
+                    Fit::Quadratic => {
+                        wls::quadratic_gradient_vectors::<D>(own, re, params.moment_min_eigenvalue)
+                    }
+                }
+            })
+            .collect();
+        let guarded = fits.iter().filter(|r| r.1).count();
+        let g: Vec<D::Vector> = fits.into_iter().flat_map(|r| r.0).collect();
+        let g_rev = wls::reverse_pairs(&list).iter().map(|&k| g[k]).collect();
+        let volumes = body.volumes;
+        let stabilisation = if params.stabilisation > 0.0 {
+            Some(Stabilisation::new(
+                params.stabilisation,
+                constants.shear_modulus,
+                &list,
+                &pairs,
+                &volumes,
+            )?)
+        } else {
+            None
+        };
+        let masses: Vec<f64> = volumes.iter().map(|v| v * density).collect();
+        let mut solver = Self {
+            material,
+            params,
+            dp: body.dp,
+            re,
+            density,
+            sound_speed,
+            positions: reference.clone(),
+            reference,
+            inv_masses: masses.iter().map(|m| 1.0 / m).collect(),
+            volumes,
+            masses,
+            list,
+            g,
+            g_rev,
+            a_inv,
+            guarded,
+            ref_weights,
+            velocities,
+            deformation: vec![D::identity(); n],
+            stress_term: vec![D::zero_matrix(); n],
+            forces: vec![D::zero(); n],
+            accelerations: vec![D::zero(); n],
+            scratch: vec![D::zero(); n],
+            constraints: Constraints::new(),
+            loads: Loads::new(),
+            pressures: Vec::new(),
+            contact: None,
+            contact_energy: 0.0,
+            stabilisation,
+            stabilisation_energy: 0.0,
+            probes: Vec::new(),
+            schedule: ProbeSchedule::every(0.0)?,
+            time: 0.0,
+            steps: 0,
+            domain: None,
+        };
+        solver.refresh();
+        Ok(solver)
+    }
+}

@@ -1,0 +1,133 @@
+//! What a scene attaches to a built TL solver: constraints, rigid tools, the quasi-static
+//! relaxation, a held centre, loads and probes, or a prescribed configuration.
+
+use super::TlSolver;
+use crate::original;
+use crate::reference_pairs::with_pair_rows;
+use sph_core::relaxation::{PairwiseDamper, PairwiseDamping};
+use sph_core::scene::ProbeSchedule;
+use sph_core::tool::{ReactionMeter, RigidTool};
+use sph_core::{Constraints, Dim, Error, Loads, Probe, Solver};
+use sph_materials::Material;
+
+impl<D: Dim, M: Material<D>> TlSolver<D, M> {
+    /// Attaches the constraints (applied to velocities and accelerations at the points of the
+    /// scheme the paper prescribes); constrained particles are excluded from the time-step maxima.
+    /// Named constraints (grips) record the reaction force they receive as a series
+    /// `/series/<name>` with the mean position of their particles.
+    pub fn with_constraints(mut self, constraints: Constraints<D>) -> Self {
+        self.free = constraints
+            .prescribed_mask(self.len())
+            .into_iter()
+            .map(|c| !c)
+            .collect();
+        self.constraints = constraints;
+        self.grip_meters = vec![ReactionMeter::default(); self.constraints.named().count()];
+        self.rebuild_series();
+        self.refresh_rates();
+        self
+    }
+
+    /// Attaches rigid tools in frictionless kinematic contact with the body (see
+    /// [`sph_core::tool`]): contact offset `dp/2`, applied after the velocity update, looking
+    /// ahead one step from the half-step positions. Each tool records its travel and the mean reaction force it
+    /// receives over each probe interval as the series `/series/<name>`.
+    ///
+    /// # Errors
+    /// Two tools (or a tool and a named constraint) with the same name.
+    pub fn with_tools(mut self, tools: Vec<RigidTool<D>>) -> Result<Self, Error> {
+        let mut names: Vec<&str> = self.constraints.named().map(|(_, n)| n).collect();
+        for t in &tools {
+            if t.name.is_empty() || names.contains(&t.name.as_str()) {
+                return Err(Error::invalid(
+                    "tool name",
+                    format!("{:?}", t.name),
+                    "non-empty and unique among the body's tools and named constraints",
+                ));
+            }
+            names.push(&t.name);
+        }
+        self.tool_meters = vec![ReactionMeter::default(); tools.len()];
+        self.tools = tools;
+        self.rebuild_series();
+        self.update_stretch_extremes();
+        Ok(self)
+    }
+
+    /// Attaches the quasi-static relaxation of the TL paper's punching and pulling cases (the
+    /// splitting random-choice pairwise damping, [`sph_core::relaxation`]) over the reference
+    /// neighbour list, applied to the velocities right after their update (before contact and
+    /// constraints), as SPHinXsys applies it between the two halves of the step.
+    ///
+    /// # Errors
+    /// Invalid damping parameters.
+    pub fn with_relaxation(mut self, damping: PairwiseDamping) -> Result<Self, Error> {
+        if self.deferred {
+            return Err(Error::invalid(
+                "ranks",
+                "a solver built for ranks",
+                "1 for a TL run with the pairwise relaxation (not distributed yet)",
+            ));
+        }
+        self.relaxation = Some(PairwiseDamper::new::<D, _>(
+            damping,
+            &self.list,
+            &self.reference,
+            &self.kernel,
+            &self.volumes,
+        )?);
+        Ok(self)
+    }
+
+    /// Holds the centre of mass of the free particles still along the selected axes: after
+    /// each velocity update, the free particles' mass-weighted mean velocity along those axes
+    /// is removed. For a body whose rigid motion nothing else fixes and whose symmetric state
+    /// is unstable (a strip between frictionless punches slides sideways once it wraps around
+    /// their corners): a symmetry condition on the rigid mode only, which leaves the
+    /// deformation free. It acts like an external force, so momentum along those axes is not
+    /// conserved but held at its value (zero for a body at rest).
+    pub fn with_centre_held(mut self, axes: [bool; 3]) -> Self {
+        self.held_axes = axes;
+        self
+    }
+
+    /// Attaches body accelerations and point forces.
+    pub fn with_loads(mut self, loads: Loads<D>) -> Self {
+        self.loads = loads;
+        self
+    }
+
+    /// Attaches probes, recorded at `t = 0` and then every `interval` of simulated time
+    /// (0 = every step).
+    pub fn with_probes(mut self, probes: Vec<Probe<D>>, interval: f64) -> Result<Self, Error> {
+        self.schedule = ProbeSchedule::every(interval)?;
+        self.probes = probes;
+        if self.schedule.due(self.time) {
+            self.record_probes();
+        }
+        Ok(self)
+    }
+
+    /// Replaces the current state by positions `x` and velocities `v`, with `F` computed from
+    /// `x` by the corrected SPH gradient (the state a prescribed deformation gives), and `Ḟ` from
+    /// `v`. For tests and for starting from a pre-deformed state.
+    pub fn set_configuration(&mut self, x: Vec<D::Vector>, v: Vec<D::Vector>) -> Result<(), Error> {
+        self.built("set_configuration")?;
+        let n = self.len();
+        if x.len() != n || v.len() != n {
+            return Err(Error::invalid(
+                "configuration",
+                format!("{} positions, {} velocities", x.len(), v.len()),
+                &format!("{n} of each"),
+            ));
+        }
+        self.deformation = with_pair_rows!(self.pair_view(), |rows| {
+            original::deformation_gradient::<D>(rows, &self.correction, &self.reference, &x)
+        });
+        self.positions = x;
+        self.velocities = v;
+        self.refresh_rates();
+        self.update_stretch_extremes();
+        Ok(())
+    }
+}
