@@ -11,6 +11,8 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+pub mod scenes;
+
 /// The neighbour-search benchmark: a jittered 3D lattice of `per_axis³` particles.
 #[derive(Clone, Copy, Debug)]
 pub struct NeighborBench {

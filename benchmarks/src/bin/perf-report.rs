@@ -1,6 +1,7 @@
 //! Regenerates `docs/performance.md` from the criterion results under `target/criterion/`
 //! (recorded in `benchmarks/results/criterion.json`, which serves when `target/` has been
-//! cleaned), `benchmarks/results/ul-stepping.json` and `benchmarks/results/case-timings.json`.
+//! cleaned), `benchmarks/results/ul-stepping.json`, `benchmarks/results/case-timings.json` and
+//! `benchmarks/results/instructions.json`.
 //!
 //! ```text
 //! cargo bench -p sph-benchmarks
@@ -41,6 +42,7 @@ fn main() {
         .expect("write benchmarks/results/criterion.json");
     ul_stepping_section(&mut md, &root);
     case_timings_section(&mut md, &root);
+    instructions_section(&mut md, &root);
     threads_section(&mut md);
     distributed_section(&mut md);
     std::fs::create_dir_all(out.parent().unwrap()).expect("create docs/");
@@ -567,6 +569,83 @@ fn short_machine(m: &str) -> String {
         .replace(" CPU", "")
         .trim()
         .to_string()
+}
+
+/// The instruction counts of the anchor runs per build (`instructions`), each scene's rows in
+/// the order they were measured, the change against its first row.
+fn instructions_section(md: &mut String, root: &Path) {
+    let path = root
+        .join("benchmarks")
+        .join("results")
+        .join("instructions.json");
+    let Some(doc) = std::fs::read_to_string(&path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+    else {
+        return;
+    };
+    let rows = doc["rows"].as_array().cloned().unwrap_or_default();
+    writeln!(
+        md,
+        "## Instructions of the anchor runs, per build\n\n\
+         Generated from `benchmarks/results/instructions.json` (`cargo run --release -p \
+         sph-benchmarks --bin instructions`, which needs valgrind): the instructions each build \
+         executes over the first part of each anchor run (`valgrind --tool=cachegrind \
+         --cache-sim=no`, one thread, the monitor sampling as often per simulated second as in \
+         the full run; the set-up included), with the functions that execute the most. Unlike \
+         wall time they do not move with the load of a shared machine, so two builds compare \
+         on any day; what they do not see is the cost of an instruction (a division, a cache \
+         miss), so a change that saves instructions is still timed on a quiet machine before it \
+         counts as faster. `change` is against the scene's first row.\n\n\
+         | scene | build | simulated (s) | particles | steps | instructions | per particle-step | change | most instructions (share) |\n\
+         |---|---|---|---|---|---|---|---|---|"
+    )
+    .unwrap();
+    let mut first: Vec<(String, f64)> = Vec::new();
+    for r in &rows {
+        let label = r["label"].as_str().unwrap_or("?").to_string();
+        let total = r["instructions"].as_f64().unwrap_or(f64::NAN);
+        let base = match first.iter().find(|(l, _)| *l == label) {
+            Some(&(_, b)) => b,
+            None => {
+                first.push((label.clone(), total));
+                total
+            }
+        };
+        let change = if base == total {
+            "–".to_string()
+        } else {
+            format!("{:+.1} %", 100.0 * (total / base - 1.0))
+        };
+        let top: Vec<String> = r["top_functions"]
+            .as_array()
+            .map(|fs| {
+                fs.iter()
+                    .take(3)
+                    .map(|f| {
+                        format!(
+                            "`{}` {:.0} %",
+                            f["function"].as_str().unwrap_or("?"),
+                            100.0 * f["instructions"].as_f64().unwrap_or(0.0) / total
+                        )
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        writeln!(
+            md,
+            "| {label} | {} | {} | {} | {} | {:.4e} | {:.0} | {change} | {} |",
+            r["build"].as_str().unwrap_or("?"),
+            r["end_time"],
+            r["particles"],
+            r["steps"],
+            total,
+            r["per_particle_step"].as_f64().unwrap_or(f64::NAN),
+            top.join("; ")
+        )
+        .unwrap();
+    }
+    writeln!(md).unwrap();
 }
 
 fn case_timings_section(md: &mut String, root: &Path) {

@@ -1,0 +1,201 @@
+//! Instructions executed by the anchor scenes (`valgrind --tool=cachegrind`), the whole run and
+//! per function: a measure of the work a build does that, unlike wall time, does not move with
+//! the load of the machine (a shared virtual machine can drift by ±20 % between two runs of the
+//! same binary). Each anchor of `case-timings` runs on one thread (a waiting thread's spinning
+//! would count) over its first `--end` seconds of simulated time (default 0.02), with the
+//! monitor sampling as often per simulated second as in the full run. Appends one row per scene
+//! and build to `benchmarks/results/instructions.json`, which `perf-report` turns into a table of
+//! `docs/performance.md`.
+//!
+//! ```text
+//! cargo build --release -p sph-cases --bin sph
+//! cargo run --release -p sph-benchmarks --bin instructions [-- --sph PATH --build NAME --end 0.02]
+//! ```
+//! `--sph` measures another build of `sph` (default: the one beside this binary), `--build` names
+//! it (default: the commit of the checkout, with `+changes` when the tree differs from it).
+//! Needs valgrind; without it the binary says so and writes nothing.
+
+use serde_json::{json, Value};
+use sph_benchmarks::scenes::scenes;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Functions listed per row, by instructions.
+const TOP_FUNCTIONS: usize = 6;
+
+/// The value of `--name` in `args`.
+fn flag(args: &[String], name: &str) -> Option<String> {
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|k| args.get(k + 1))
+        .cloned()
+}
+
+/// The simulated end time an argument list sets (`--set end_time=…`).
+fn end_time(args: &[&str]) -> Option<f64> {
+    args.iter()
+        .rev()
+        .find_map(|a| a.strip_prefix("end_time="))
+        .and_then(|v| v.parse().ok())
+}
+
+/// The commit of the checkout at `root`, `+changes` appended when its tree differs from it.
+fn build_name(root: &Path) -> String {
+    let git = |args: &[&str]| {
+        Command::new("git")
+            .args(args)
+            .current_dir(root)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    let commit = git(&["rev-parse", "--short", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    let dirty =
+        git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+    if dirty {
+        format!("{commit}+changes")
+    } else {
+        commit
+    }
+}
+
+/// Total instructions and instructions per function of a cachegrind output file (events `Ir`
+/// only, as `--cache-sim=no` writes them).
+fn read_cachegrind(path: &Path) -> (u64, BTreeMap<String, u64>) {
+    let text = std::fs::read_to_string(path).expect("cachegrind output");
+    let mut total = 0;
+    let mut per_function: BTreeMap<String, u64> = BTreeMap::new();
+    let mut current = String::new();
+    for line in text.lines() {
+        if let Some(name) = line.strip_prefix("fn=") {
+            current = name.to_string();
+        } else if let Some(n) = line.strip_prefix("summary:") {
+            total = n.trim().parse().expect("cachegrind summary");
+        } else if line.starts_with(|c: char| c.is_ascii_digit()) {
+            let count: u64 = line
+                .split_whitespace()
+                .nth(1)
+                .and_then(|c| c.parse().ok())
+                .unwrap_or(0);
+            *per_function.entry(current.clone()).or_default() += count;
+        }
+    }
+    (total, per_function)
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let exe = std::env::current_exe().expect("own path");
+    let root = exe
+        .ancestors()
+        .find(|p| p.join("Cargo.lock").exists())
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("."));
+    let sph = flag(&args, "--sph").map_or_else(|| exe.with_file_name("sph"), PathBuf::from);
+    let build = flag(&args, "--build").unwrap_or_else(|| build_name(&root));
+    let end: f64 = flag(&args, "--end").map_or(0.02, |v| v.parse().expect("--end: seconds"));
+    if !sph.exists() {
+        eprintln!(
+            "error: {} not found: build it first (cargo build --release -p sph-cases --bin sph)",
+            sph.display()
+        );
+        std::process::exit(2);
+    }
+    if Command::new("valgrind").arg("--version").output().is_err() {
+        println!("notice: valgrind is not installed; no instruction counts measured");
+        return;
+    }
+    let scratch = std::env::temp_dir().join(format!("sph-instructions-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch).expect("scratch directory");
+    let mut rows = Vec::new();
+    for scene in scenes().into_iter().filter(|s| s.group == "anchors") {
+        let full = end_time(&scene.args).expect("an anchor scene sets its end_time");
+        // The monitor's 200 samples of the full run, at the same spacing in the shortened one.
+        let (end_key, monitor_key) = (
+            format!("end_time={end}"),
+            format!("monitor_interval={}", full / 200.0),
+        );
+        let (out, summary) = (scratch.join("cachegrind.out"), scratch.join("summary.json"));
+        let status = Command::new("valgrind")
+            .args(["--tool=cachegrind", "--cache-sim=no"])
+            .arg(format!("--cachegrind-out-file={}", out.display()))
+            .arg(&sph)
+            .arg("run")
+            .args(&scene.args)
+            .args(["--set", &end_key, "--set", &monitor_key])
+            .args(["--no-output", "--threads", "1", "--summary"])
+            .arg(&summary)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .expect("run valgrind");
+        if !status.success() {
+            eprintln!("error: {} failed under valgrind ({status})", scene.label);
+            std::process::exit(1);
+        }
+        let (total, per_function) = read_cachegrind(&out);
+        let figures: Value =
+            serde_json::from_str(&std::fs::read_to_string(&summary).expect("summary"))
+                .expect("summary JSON");
+        // UL counts its force evaluations as acoustic steps.
+        let (particles, steps) = (
+            figures["particles"].clone(),
+            match &figures["acoustic_steps"] {
+                Value::Null => figures["steps"].clone(),
+                n => n.clone(),
+            },
+        );
+        let per_particle_step = total as f64
+            / (particles.as_f64().unwrap_or(f64::NAN) * steps.as_f64().unwrap_or(f64::NAN));
+        let mut top: Vec<(String, u64)> = per_function.into_iter().collect();
+        top.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
+        top.truncate(TOP_FUNCTIONS);
+        let command = format!(
+            "valgrind --tool=cachegrind --cache-sim=no sph run {} --set {end_key} --set \
+             {monitor_key} --no-output --threads 1",
+            scene.args.join(" ")
+        );
+        eprintln!(
+            "{} (first {end} s): {total} instructions, {per_particle_step:.0} per particle-step",
+            scene.label
+        );
+        rows.push(json!({
+            "label": scene.label,
+            "build": build,
+            "end_time": end,
+            "command": command,
+            "particles": particles,
+            "steps": steps,
+            "instructions": total,
+            "per_particle_step": per_particle_step,
+            "top_functions": top
+                .iter()
+                .map(|(name, n)| json!({ "function": name, "instructions": n }))
+                .collect::<Vec<_>>(),
+        }));
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    let path = root
+        .join("benchmarks")
+        .join("results")
+        .join("instructions.json");
+    // A row is replaced only by the same scene, build and end time.
+    let key = |r: &Value| format!("{}|{}|{}", r["label"], r["build"], r["end_time"]);
+    let mut all: Vec<Value> = std::fs::read_to_string(&path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+        .and_then(|v| v.get("rows").and_then(Value::as_array).cloned())
+        .unwrap_or_default();
+    let fresh: Vec<String> = rows.iter().map(key).collect();
+    all.retain(|r| !fresh.contains(&key(r)));
+    all.extend(rows);
+    let doc = json!({
+        "generated_by": "cargo run --release -p sph-benchmarks --bin instructions",
+        "rows": all,
+    });
+    std::fs::create_dir_all(path.parent().unwrap()).expect("results directory");
+    std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).expect("write results");
+    println!("wrote {}", path.display());
+}
