@@ -189,12 +189,13 @@ fn threads_section(md: &mut String) {
          another 5 %, the half steps 2 %. Every neighbour read `v[j]` of a pair loop was \
          bounds-checked; the checks are gone (`NeighborList::values` checks the length once \
          against the list's largest index, kept with the list), the same bits (the results \
-         files of sixteen scenes of all seven methods equal dataset by dataset). Instructions \
-         (`valgrind --tool=cachegrind`, one thread, to t = 0.02 s): the twisting column \
-         1.568·10¹⁰ → 1.458·10¹⁰ (−7.0 %; HF acceleration −13 %, deformation rate −6.6 %, \
-         disorder −4.9 %), the UL-ENOG plate 7.568·10⁹ → 7.097·10⁹ (−6.2 %; force gather \
-         −15 %, rate gather −14 %), the MPS cantilever plate (`cantilever-plate-2d --method \
-         mps`) 6.746·10⁹ → 6.405·10⁹ (−5.1 %). Their wall time could not be resolved that \
+         files of sixteen scenes of all seven methods equal dataset by dataset). Instructions: \
+         the table above (builds 8a8e284 and a472b77: TL plate −7.2 %, UL-ENOG plate −7.1 %, \
+         twisting column −8.9 %; per function, twisting column with the default monitor to \
+         t = 0.02 s: HF acceleration −13 %, deformation rate −6.6 %, disorder −4.9 %; UL-ENOG \
+         plate: force gather −15 %, rate gather −14 %), the MPS cantilever plate \
+         (`valgrind --tool=cachegrind --cache-sim=no sph run cantilever-plate-2d --method mps \
+         --set end_time=0.02 --no-output --threads 1`) 6.746·10⁹ → 6.405·10⁹ (−5.1 %). Their wall time could not be resolved that \
          day: the machine ran at about half its speed of 2026-12-02 with ±20 % between \
          repeats of the same binary (UL-ENOG plate to 0.25 s on one thread, nine interleaved \
          runs each: 7.01–10.31 s before, 6.90–10.19 s after; twisting column to 0.1 s, eight \
@@ -634,11 +635,11 @@ fn instructions_section(md: &mut String, root: &Path) {
             .unwrap_or_default();
         writeln!(
             md,
-            "| {label} | {} | {} | {} | {} | {:.4e} | {:.0} | {change} | {} |",
+            "| {label} | {} | {} | {:.0} | {:.0} | {:.4e} | {:.0} | {change} | {} |",
             r["build"].as_str().unwrap_or("?"),
             r["end_time"],
-            r["particles"],
-            r["steps"],
+            r["particles"].as_f64().unwrap_or(f64::NAN),
+            r["steps"].as_f64().unwrap_or(f64::NAN),
             total,
             r["per_particle_step"].as_f64().unwrap_or(f64::NAN),
             top.join("; ")
