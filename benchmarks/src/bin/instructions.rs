@@ -64,7 +64,12 @@ fn build_name(root: &Path) -> String {
 /// Total instructions and instructions per function of a cachegrind output file (events `Ir`
 /// only, as `--cache-sim=no` writes them).
 fn read_cachegrind(path: &Path) -> (u64, BTreeMap<String, u64>) {
-    let text = std::fs::read_to_string(path).expect("cachegrind output");
+    parse_cachegrind(&std::fs::read_to_string(path).expect("cachegrind output"))
+}
+
+/// [`read_cachegrind`] of the file's text: `fn=` names the function of the `line count` lines
+/// that follow (the same name in several files adds up), `summary:` the total.
+fn parse_cachegrind(text: &str) -> (u64, BTreeMap<String, u64>) {
     let mut total = 0;
     let mut per_function: BTreeMap<String, u64> = BTreeMap::new();
     let mut current = String::new();
@@ -198,4 +203,29 @@ fn main() {
     std::fs::create_dir_all(path.parent().unwrap()).expect("results directory");
     std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).expect("write results");
     println!("wrote {}", path.display());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cachegrind_counts_add_up_per_function() {
+        let text = "events: Ir\nfl=a.c\nfn=f\n1 10\n2 5\nfn=g::{{closure}}\n7 3\n\
+                    fl=b.c\nfn=f\n4 100\nsummary: 118\n";
+        let (total, per) = parse_cachegrind(text);
+        assert_eq!(total, 118);
+        assert_eq!(per["f"], 115);
+        assert_eq!(per["g::{{closure}}"], 3);
+        assert_eq!(per.values().sum::<u64>(), total);
+    }
+
+    #[test]
+    fn the_end_time_is_the_last_one_set() {
+        assert_eq!(
+            end_time(&["x", "--set", "end_time=1", "--set", "end_time=0.5"]),
+            Some(0.5)
+        );
+        assert_eq!(end_time(&["x"]), None);
+    }
 }
