@@ -5,6 +5,24 @@ use super::*;
 
 /// Appends the UL sections to `md`, writing figures into `fig_dir` (linked as `rel/…`).
 pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), String> {
+    table1_section(md)?;
+    convergence_section(md, fig_dir, rel_dir)?;
+    long_run_section(md, fig_dir, rel_dir)?;
+    plate3d_section(md)?;
+    rings_section(md, fig_dir, rel_dir)?;
+    Ok(())
+}
+
+/// A run's period to four digits, or its state when it has none.
+fn cell(r: &Option<StoredRun>) -> String {
+    match period(r) {
+        Some(t) => format!("{t:.4}"),
+        None => state(r),
+    }
+}
+
+/// Table 1 of the 2D plate: ENOG and OAS against the paper and theory, the FE period, the runs not yet made, and the OAS variants.
+fn table1_section(md: &mut String) -> Result<(), String> {
     writeln!(md, "## UL: 2D oscillating plate (UL paper §6.1, Table 1)\n").unwrap();
     writeln!(
         md,
@@ -27,10 +45,6 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
     )
     .unwrap();
     writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|").unwrap();
-    let cell = |r: &Option<StoredRun>| match period(r) {
-        Some(t) => format!("{t:.4}"),
-        None => state(r),
-    };
     for (vf, p_enog, p_oas) in TABLE1 {
         let ef = load(&plate_id("ul-enog", 30, vf, "frame"));
         let es = load(&plate_id("ul-enog", 30, vf, "solid"));
@@ -164,6 +178,11 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         )
         .unwrap();
     }
+    Ok(())
+}
+
+/// The convergence of the 2D plate with ENOG over H/dp.
+fn convergence_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), String> {
     writeln!(md, "### Convergence (ENOG, v_f = 0.05)\n").unwrap();
     writeln!(
         md,
@@ -213,7 +232,11 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         )
         .unwrap();
     }
+    Ok(())
+}
 
+/// The 10 s run of the 2D plate: disorder and tip motion with refreshed and frozen kernel data.
+fn long_run_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), String> {
     writeln!(md, "### Long run (t = 10 s, H/dp = 10, v_f = 0.05)\n").unwrap();
     writeln!(
         md,
@@ -319,7 +342,11 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
             }
         }
     }
+    Ok(())
+}
 
+/// Table 3: the simply supported 3D plate against the paper and the analytical periods, and the finer runs.
+fn plate3d_section(md: &mut String) -> Result<(), String> {
     writeln!(
         md,
         "## UL: simply supported 3D plate (UL paper §6.2, Table 3)\n"
@@ -418,7 +445,11 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         }
         writeln!(md).unwrap();
     }
+    Ok(())
+}
 
+/// The colliding rubber rings at 0.06–0.08 c0 with OG, OAS and ENOG, with pictures.
+fn rings_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), String> {
     writeln!(
         md,
         "## UL: colliding rubber rings (UL paper §6.3, Fig. 12–14)\n"
