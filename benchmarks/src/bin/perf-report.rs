@@ -197,9 +197,12 @@ fn threads_section(md: &mut String) {
          (`valgrind --tool=cachegrind --cache-sim=no sph run cantilever-plate-2d --method mps \
          --set end_time=0.02 --no-output --threads 1`) 6.746·10⁹ → 6.405·10⁹ (−5.1 %). Their wall time could not be resolved that \
          day: the machine ran at about half its speed of 2026-12-02 with ±20 % between \
-         repeats of the same binary (UL-ENOG plate to 0.25 s on one thread, nine interleaved \
-         runs each: 7.01–10.31 s before, 6.90–10.19 s after; twisting column to 0.1 s, eight \
-         each: 3.90–5.52 s and 3.96–5.80 s); kept for the instructions, to be timed on a \
+         repeats of the same binary (`sph run oscillating-plate-2d --method ul-enog --set \
+         h_over_dp=1.3 --set end_time=0.25 --no-output --threads 1`, nine interleaved runs \
+         each: 7.01–10.31 s before, 6.90–10.19 s after; the twisting column above with \
+         `end_time=0.1`, eight each: 3.90–5.52 s and 3.96–5.80 s; two copies of one binary \
+         running at once, one per core, the cores swapped each round, TL plate to 0.25 s: \
+         their ratio 0.77–1.33 over 16 rounds, median 1.05); kept for the instructions, to be timed on a \
          quiet machine.\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \

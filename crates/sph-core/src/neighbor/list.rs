@@ -200,7 +200,7 @@ impl NeighborList {
 
 /// Per-particle values read at the neighbour indices of the list that made them
 /// ([`NeighborList::values`]), without the bounds check of `values[j]` in the inner loop of
-/// a pair pass (5–7 % of the instructions of a UL, TL or MPS run; docs/performance.md).
+/// a pair pass (5–9 % of the instructions of a UL, TL or MPS run; docs/performance.md).
 #[derive(Debug)]
 pub struct NeighbourValues<'a, T> {
     values: &'a [T],
