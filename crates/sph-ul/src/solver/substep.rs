@@ -4,6 +4,14 @@
 //! order.
 
 use super::*;
+use sph_core::NeighbourValues;
+
+/// The neighbours' velocities, volumes and pressures the force gather reads.
+type ForceNeighbours<'a, D> = (
+    NeighbourValues<'a, <D as Dim>::Vector>,
+    NeighbourValues<'a, f64>,
+    NeighbourValues<'a, f64>,
+);
 
 impl<D: Dim> UlSolver<D> {
     /// Rebuild at the start of an advection step: cell list, reordering in cell order (applied
@@ -364,36 +372,36 @@ impl<D: Dim> UlSolver<D> {
         out: &mut [D::Vector],
         parts: &mut [[D::Vector; 2]],
     ) {
+        let list = &self.list;
+        let neighbours = (
+            list.values(&self.velocities),
+            list.values(&self.current_volumes),
+            list.values(&self.pressures),
+        );
         if parts.is_empty() {
-            gather(out, |i, a| *a = self.force_sum::<S, false>(&shear, i).0);
+            gather(out, |i, a| {
+                *a = self.force_sum::<S, false>(&shear, neighbours, i).0;
+            });
         } else {
             gather2(out, parts, |i, a, b| {
-                (*a, *b) = self.force_sum::<S, true>(&shear, i);
+                (*a, *b) = self.force_sum::<S, true>(&shear, neighbours, i);
             });
         }
     }
 
     /// `a_i` of [`Self::forces_loop`] and, with `BUDGET`, the Riemann-dissipation and
-    /// artificial-stress parts of it.
+    /// artificial-stress parts of it; `neighbours`: velocities, volumes and pressures read
+    /// through `self.list`.
     #[inline(always)]
     fn force_sum<S: ShearForce<D>, const BUDGET: bool>(
         &self,
         shear: &S,
+        (vel_j, vol_j, p_j): ForceNeighbours<'_, D>,
         i: usize,
     ) -> (D::Vector, [D::Vector; 2]) {
-        let (vel, rho, vol, p) = (
-            &self.velocities,
-            &self.densities,
-            &self.current_volumes,
-            &self.pressures,
-        );
+        let (vel, rho, p) = (&self.velocities, &self.densities, &self.pressures);
         let (rho0, c0, scheme) = (self.rho0, self.c0, self.params.riemann);
         let (v_i, p_i, inv_rho_i) = (vel[i], p[i], 1.0 / rho[i]);
-        let (vel_j, vol_j, p_j) = (
-            self.list.values(vel),
-            self.list.values(vol),
-            self.list.values(p),
-        );
         let mut acc = D::zero();
         let mut parts = [D::zero(); 2];
         for (pk, &j) in self.pairs[self.list.range(i)]
@@ -401,7 +409,8 @@ impl<D: Dim> UlSolver<D> {
             .zip(self.list.neighbors(i))
         {
             let j = j as usize;
-            // SAFETY: `j` is an index of `self.list`, which made the three views.
+            // SAFETY: `j` is an index of `self.list`, which made the three views
+            // (`forces_loop`).
             let (vol_j, vel_j, p_j) = unsafe { (vol_j.at(j), vel_j.at(j), p_j.at(j)) };
             let vj_rho_i = vol_j * inv_rho_i;
             let u = D::dot(v_i - vel_j, pk.e);
