@@ -186,9 +186,13 @@ fn threads_section(md: &mut String) {
          deformation rate (eq 22) 29 %, the disorder indicator of the monitor's 200 samples \
          6 % (one sample costs about 1.7 HF passes: two square roots and a kernel value per \
          pair, a latency chain), the stress update 5 % and the cube root of its `J^(−2/3)` \
-         another 5 %, the half steps 2 %. Every neighbour read `v[j]` of a pair loop was \
-         bounds-checked; the checks are gone (`NeighborList::values` checks the length once \
-         against the list's largest index, kept with the list), the same bits (the results \
+         another 5 %, the half steps 2 %. The neighbour reads `v[j]` of the main pair loops \
+         (UL force and rate gathers and refresh positions; TL stress divergence, HF \
+         acceleration, deformation rate, GM penalty; MPS deformation gradient, forces, \
+         stabilisation; the disorder indicator and affine fit) were bounds-checked per read; \
+         those checks are gone (`NeighborList::values` checks the length once against the \
+         list's largest index, kept with the list; the shear variants' own pair terms and the \
+         refresh's slot reads keep theirs), the same bits (the results \
          files of sixteen scenes of all seven methods equal dataset by dataset). Instructions: \
          the table above (builds 8a8e284 and a472b77: TL plate −7.2 %, UL-ENOG plate −7.1 %, \
          twisting column −8.9 %; per function, twisting column with the default monitor to \
