@@ -234,6 +234,36 @@ fn a_tl_case_on_ranks_writes_the_single_process_results() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Short runs of every method family above the 1,024 particles from which loops are split:
+/// case, method and parameters.
+const SPLIT_RUNS: [(&str, &str, &[&str]); 5] = [
+    (
+        "oscillating-plate-2d",
+        "tl-hf",
+        &["end_time=0.002", "snapshots=2"],
+    ),
+    (
+        "oscillating-plate-2d",
+        "tl-gm",
+        &["end_time=0.002", "snapshots=2"],
+    ),
+    (
+        "oscillating-plate-2d",
+        "ul-enog",
+        &["end_time=0.002", "snapshots=2"],
+    ),
+    (
+        "colliding-rings-2d",
+        "ul-og",
+        &["end_time=0.0005", "snapshots=2", "contact=true"],
+    ),
+    (
+        "cantilever-plate-2d",
+        "mps",
+        &["end_time=0.002", "snapshots=2", "stabilisation=0.5"],
+    ),
+];
+
 /// The parallel loops of every method (`sph_core::team`: any thread may run any task) give
 /// the one-thread results bit for bit on 2 and 3 threads: TL-HF and TL-GM, UL-ENOG, UL-OG with
 /// contact between bodies, and the stabilised MPS (all above the 1,024 particles from which
@@ -241,34 +271,7 @@ fn a_tl_case_on_ranks_writes_the_single_process_results() {
 #[test]
 fn every_method_writes_the_same_results_on_one_two_and_three_threads() {
     let dir = scratch("threads");
-    let runs: [(&str, &str, &[&str]); 5] = [
-        (
-            "oscillating-plate-2d",
-            "tl-hf",
-            &["end_time=0.002", "snapshots=2"],
-        ),
-        (
-            "oscillating-plate-2d",
-            "tl-gm",
-            &["end_time=0.002", "snapshots=2"],
-        ),
-        (
-            "oscillating-plate-2d",
-            "ul-enog",
-            &["end_time=0.002", "snapshots=2"],
-        ),
-        (
-            "colliding-rings-2d",
-            "ul-og",
-            &["end_time=0.0005", "snapshots=2", "contact=true"],
-        ),
-        (
-            "cantilever-plate-2d",
-            "mps",
-            &["end_time=0.002", "snapshots=2", "stabilisation=0.5"],
-        ),
-    ];
-    for (case, method, set) in runs {
+    for (case, method, set) in SPLIT_RUNS {
         let file = |threads: usize| {
             let base = dir.join(format!("{case}-{method}-{threads}/c"));
             let status = run_case_on(case, method, set, None, threads, &base, false);
@@ -287,6 +290,29 @@ fn every_method_writes_the_same_results_on_one_two_and_three_threads() {
         for threads in [2, 3] {
             assert_same_snapshots(&one, &file(threads), &format!("{case} {method} {threads}"));
         }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The loops' AVX2 + FMA copy (`sph_core::wide`) gives the plain x86-64 results bit for bit,
+/// for the runs of every method family above.
+#[test]
+fn every_method_writes_the_same_results_with_and_without_avx2() {
+    if !sph_core::wide::cpu_has_avx2_fma() {
+        eprintln!("notice: this CPU has no AVX2 + FMA; both runs use plain x86-64 code");
+    }
+    let dir = scratch("wide");
+    for (case, method, set) in SPLIT_RUNS {
+        let file = |wide: bool| {
+            sph_core::wide::set_enabled(wide);
+            let base = dir.join(format!("{case}-{method}-{wide}/c"));
+            let status = run_case_on(case, method, set, None, 2, &base, false);
+            sph_core::wide::set_enabled(true);
+            assert_eq!(status, ["completed"], "{case} {method}, AVX2 {wide}");
+            read_file(base.with_extension("h5")).unwrap()
+        };
+        let plain = file(false);
+        assert_same_snapshots(&plain, &file(true), &format!("{case} {method} AVX2"));
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

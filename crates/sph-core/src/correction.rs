@@ -97,6 +97,7 @@ pub fn correction_matrices<D: Dim>(
         list.len(),
         min_eigenvalue,
         |_| true,
+        #[inline(always)]
         |i| moment_matrix::<D>(&pairs[list.range(i)], list.neighbors(i), volumes),
     )
 }
@@ -131,14 +132,20 @@ pub fn correction_matrices_counted<D: Dim, K: Kernel>(
     min_eigenvalue: f64,
     counted: impl Fn(usize) -> bool + Sync + Send,
 ) -> Result<Correction<D>, Error> {
-    guarded_corrections::<D>(list.len(), min_eigenvalue, counted, |i| {
-        let xi = positions[i];
-        let row = list
-            .neighbors(i)
-            .iter()
-            .map(|&j| (pair_kernel::<D, K>(xi - positions[j as usize], kernel), j));
-        moment_of_pairs::<D>(row, volumes)
-    })
+    guarded_corrections::<D>(
+        list.len(),
+        min_eigenvalue,
+        counted,
+        #[inline(always)]
+        |i| {
+            let xi = positions[i];
+            let row = list
+                .neighbors(i)
+                .iter()
+                .map(|&j| (pair_kernel::<D, K>(xi - positions[j as usize], kernel), j));
+            moment_of_pairs::<D>(row, volumes)
+        },
+    )
 }
 
 /// The guarded inverses of the moment matrices `moment(i)` of `n` particles.
@@ -151,9 +158,14 @@ fn guarded_corrections<D: Dim>(
     check_positive("correction_min_eigenvalue", min_eigenvalue)?;
     let mut matrices = vec![D::zero_matrix(); n];
     let mut was_guarded = vec![false; n];
-    crate::parallel::gather2(&mut matrices, &mut was_guarded, |i, b, g| {
-        (*b, *g) = guarded_inverse::<D>(moment(i), min_eigenvalue);
-    });
+    crate::parallel::gather2(
+        &mut matrices,
+        &mut was_guarded,
+        #[inline(always)]
+        |i, b, g| {
+            (*b, *g) = guarded_inverse::<D>(moment(i), min_eigenvalue);
+        },
+    );
     let guarded = (0..n).filter(|&i| was_guarded[i] && counted(i)).count();
     Ok(Correction { matrices, guarded })
 }

@@ -90,10 +90,14 @@ pub fn check_jacobians<D: Dim>(
     step: u64,
     time: f64,
 ) -> Result<(), Error> {
-    match crate::parallel::first_index(deformation.len(), |i| {
-        let j = D::det(deformation[i]);
-        j.is_nan() || j <= 0.0
-    }) {
+    match crate::parallel::first_index(
+        deformation.len(),
+        #[inline(always)]
+        |i| {
+            let j = D::det(deformation[i]);
+            j.is_nan() || j <= 0.0
+        },
+    ) {
         Some(i) => Err(Error::Inverted {
             particle: i,
             jacobian: D::det(deformation[i]),
@@ -122,12 +126,18 @@ pub fn check_finite_state<D: Dim>(
     let (x, v, m) = (positions, velocities, matrices.1);
     // A healthy step returns here: one pass over the three arrays, on the team.
     let same_length = x.len() == v.len() && (m.is_empty() || m.len() == x.len());
-    let bad = |i: usize| {
-        !D::is_finite(x[i])
-            || !D::is_finite(v[i])
-            || m.get(i).is_some_and(|&m| !D::matrix_is_finite(m))
-    };
-    if same_length && crate::parallel::first_index(x.len(), bad).is_none() {
+    if same_length
+        && crate::parallel::first_index(
+            x.len(),
+            #[inline(always)]
+            |i| {
+                !D::is_finite(x[i])
+                    || !D::is_finite(v[i])
+                    || m.get(i).is_some_and(|&m| !D::matrix_is_finite(m))
+            },
+        )
+        .is_none()
+    {
         return Ok(());
     }
     // Something is not finite: name the first entry of the first array that has one.

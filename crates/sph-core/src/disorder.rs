@@ -48,27 +48,26 @@ pub fn disorder_indicator<D: Dim>(
     deformation: &[D::Matrix],
 ) -> Vec<f64> {
     let (x0_j, x_j) = (list.values(reference), list.values(current));
-    let disorder_of = |i: usize| {
-        let (f, x0_i, x_i) = (deformation[i], reference[i], current[i]);
-        let mut num = 0.0;
-        let mut den = 0.0;
-        for (k, &j) in list.range(i).zip(list.neighbors(i)) {
-            // SAFETY: `j` is an index of `list`, which made the views.
-            let (x0_j, x_j) = unsafe { (x0_j.at(j as usize), x_j.at(j as usize)) };
-            let xij0 = x0_i - x0_j;
-            let xij = x_i - x_j;
-            let (w, r) = weights.at(k, xij0);
-            num += w * D::norm(f * xij0 - xij);
-            den += w * r;
-        }
-        if den > 0.0 {
-            num / den
-        } else {
-            0.0
-        }
-    };
     let mut out = vec![0.0; list.len()];
-    crate::parallel::gather(&mut out, |i, e| *e = disorder_of(i));
+    crate::parallel::gather(
+        &mut out,
+        #[inline(always)]
+        |i, e| {
+            let (f, x0_i, x_i) = (deformation[i], reference[i], current[i]);
+            let mut num = 0.0;
+            let mut den = 0.0;
+            for (k, &j) in list.range(i).zip(list.neighbors(i)) {
+                // SAFETY: `j` is an index of `list`, which made the views.
+                let (x0_j, x_j) = unsafe { (x0_j.at(j as usize), x_j.at(j as usize)) };
+                let xij0 = x0_i - x0_j;
+                let xij = x_i - x_j;
+                let (w, r) = weights.at(k, xij0);
+                num += w * D::norm(f * xij0 - xij);
+                den += w * r;
+            }
+            *e = if den > 0.0 { num / den } else { 0.0 };
+        },
+    );
     out
 }
 
@@ -82,33 +81,37 @@ pub fn affine_fit<D: Dim>(
     current: &[D::Vector],
 ) -> Vec<D::Matrix> {
     let (x0_j, x_j) = (list.values(reference), list.values(current));
-    let fit_of = |i: usize| {
-        let (x0_i, x_i) = (reference[i], current[i]);
-        let mut a = D::zero_matrix();
-        let mut b = D::zero_matrix();
-        let mut wsum = 0.0;
-        let mut r2sum = 0.0;
-        for (k, &j) in list.range(i).zip(list.neighbors(i)) {
-            // SAFETY: `j` is an index of `list`, which made the views.
-            let (x0_j, x_j) = unsafe { (x0_j.at(j as usize), x_j.at(j as usize)) };
-            let xij0 = x0_i - x0_j;
-            let xij = x_i - x_j;
-            let (w, r) = weights.at(k, xij0);
-            a += D::outer(xij0 * w, xij0);
-            b += D::outer(xij * w, xij0);
-            wsum += w;
-            r2sum += w * r * r;
-        }
-        if wsum <= 0.0 || r2sum <= 0.0 {
-            return D::identity();
-        }
-        // Normalise A by its mean squared distance so the guard threshold is scale free.
-        let scale = D::D as f64 / r2sum;
-        let (inv, _) = guarded_inverse::<D>(a * scale, DEFAULT_MIN_EIGENVALUE);
-        b * inv * scale
-    };
     let mut out = vec![D::identity(); list.len()];
-    crate::parallel::gather(&mut out, |i, fit| *fit = fit_of(i));
+    crate::parallel::gather(
+        &mut out,
+        #[inline(always)]
+        |i, fit| {
+            let (x0_i, x_i) = (reference[i], current[i]);
+            let mut a = D::zero_matrix();
+            let mut b = D::zero_matrix();
+            let mut wsum = 0.0;
+            let mut r2sum = 0.0;
+            for (k, &j) in list.range(i).zip(list.neighbors(i)) {
+                // SAFETY: `j` is an index of `list`, which made the views.
+                let (x0_j, x_j) = unsafe { (x0_j.at(j as usize), x_j.at(j as usize)) };
+                let xij0 = x0_i - x0_j;
+                let xij = x_i - x_j;
+                let (w, r) = weights.at(k, xij0);
+                a += D::outer(xij0 * w, xij0);
+                b += D::outer(xij * w, xij0);
+                wsum += w;
+                r2sum += w * r * r;
+            }
+            if wsum <= 0.0 || r2sum <= 0.0 {
+                *fit = D::identity();
+                return;
+            }
+            // Normalise A by its mean squared distance so the guard threshold is scale free.
+            let scale = D::D as f64 / r2sum;
+            let (inv, _) = guarded_inverse::<D>(a * scale, DEFAULT_MIN_EIGENVALUE);
+            *fit = b * inv * scale;
+        },
+    );
     out
 }
 

@@ -5,7 +5,8 @@
 //! ([`pairs`]), the kernel-gradient correction matrix ([`correction`]), particle generators
 //! ([`generate`]), constraints, forces and probes a scene attaches ([`scene`]), rigid tools with
 //! frictionless contact ([`tool`]), quasi-static relaxation ([`relaxation`]), the particle
-//! disorder indicator ([`disorder`]), the [`solver::Solver`] trait, and what a distributed run
+//! disorder indicator ([`disorder`]), the [`solver::Solver`] trait, the instruction set the loops
+//! run with ([`wide`]), and what a distributed run
 //! needs: communicators ([`comm`]), decomposition ([`decomposition`]) and a rank's share
 //! ([`distributed`]).
 //!
@@ -36,6 +37,7 @@ pub mod solver;
 pub mod state;
 pub mod team;
 pub mod tool;
+pub mod wide;
 
 pub use body::Body;
 pub use dim::{Dim, D2, D3};

@@ -260,9 +260,11 @@ impl<D: Dim> CellGrid<D> {
         let n = positions.len();
         let ncell = self.dims[0] * self.dims[1] * self.dims[2];
         let mut cell_of = vec![0u32; n];
-        crate::parallel::gather(&mut cell_of, |i, c| {
-            *c = self.cell_index(positions[i]) as u32
-        });
+        crate::parallel::gather(
+            &mut cell_of,
+            #[inline(always)]
+            |i, c| *c = self.cell_index(positions[i]) as u32,
+        );
         let mut start = vec![0u32; ncell + 1];
         for &c in &cell_of {
             start[c as usize + 1] += 1;
@@ -477,8 +479,10 @@ impl<D: Dim> CellGrid<D> {
     ) -> Result<NeighborList, Error> {
         self.check_query("targets", targets.len(), cutoff)?;
         let rc2 = cutoff * cutoff;
-        let blocks: Vec<(Vec<u32>, Vec<u32>)> =
-            crate::parallel::map_tasks(queries.len().div_ceil(BLOCK), |b| {
+        let blocks: Vec<(Vec<u32>, Vec<u32>)> = crate::parallel::map_tasks(
+            queries.len().div_ceil(BLOCK),
+            #[inline(always)]
+            |b| {
                 let chunk = &queries[b * BLOCK..((b + 1) * BLOCK).min(queries.len())];
                 let mut counts = Vec::with_capacity(chunk.len());
                 let mut idx = Vec::with_capacity(chunk.len() * 64);
@@ -493,7 +497,8 @@ impl<D: Dim> CellGrid<D> {
                     counts.push((idx.len() - start) as u32);
                 }
                 (counts, idx)
-            });
+            },
+        );
         Ok(NeighborList::from_blocks(queries.len(), blocks))
     }
 }

@@ -77,14 +77,19 @@ pub fn fill_pair_kernels<D: Dim, K: Kernel>(
 ) {
     assert_eq!(out.len(), list.num_pairs(), "pair buffer length");
     let indices = list.indices();
-    crate::parallel::gather_slices(list.offsets(), out, &|i, slots: &mut [PairKernel<D>]| {
-        let xi = queries[i];
-        let start = list.offsets()[i];
-        let neighbours = &indices[start..start + slots.len()];
-        for (slot, &j) in slots.iter_mut().zip(neighbours) {
-            *slot = pair_kernel::<D, K>(xi - targets[j as usize], kernel);
-        }
-    });
+    crate::parallel::gather_slices(
+        list.offsets(),
+        out,
+        #[inline(always)]
+        |i, slots: &mut [PairKernel<D>]| {
+            let xi = queries[i];
+            let start = list.offsets()[i];
+            let neighbours = &indices[start..start + slots.len()];
+            for (slot, &j) in slots.iter_mut().zip(neighbours) {
+                *slot = pair_kernel::<D, K>(xi - targets[j as usize], kernel);
+            }
+        },
+    );
 }
 
 /// Kernel data of the pair whose separation is `d = x_i − x_j`: the one formula behind every
@@ -268,23 +273,29 @@ impl PairSymmetry {
         assert_eq!(out.len(), self.pairs, "pair buffer length");
         let (offsets, indices) = (list.offsets(), list.indices());
         let x_j = list.values(positions);
-        crate::parallel::gather_blocks(offsets, out, &|rows, block: &mut [PairKernel<D>]| {
-            let base = offsets[rows.start];
-            for i in rows.clone() {
-                let xi = positions[i];
-                let upper = &self.upper[self.upper_start[i]..self.upper_start[i + 1]];
-                let cross = &self.cross[self.cross_start[i]..self.cross_start[i + 1]];
-                for &k in upper.iter().chain(cross) {
-                    let j = indices[k as usize] as usize;
-                    // SAFETY: `j` is an index of `list`, which made the view.
-                    let x_j = unsafe { x_j.at(j) };
-                    block[k as usize - base] = pair_kernel::<D, K>(xi - x_j, kernel);
+        crate::parallel::gather_blocks(
+            offsets,
+            out,
+            #[inline(always)]
+            |rows: std::ops::Range<usize>, block: &mut [PairKernel<D>]| {
+                let base = offsets[rows.start];
+                for i in rows.clone() {
+                    let xi = positions[i];
+                    let upper = &self.upper[self.upper_start[i]..self.upper_start[i + 1]];
+                    let cross = &self.cross[self.cross_start[i]..self.cross_start[i + 1]];
+                    for &k in upper.iter().chain(cross) {
+                        let j = indices[k as usize] as usize;
+                        // SAFETY: `j` is an index of `list`, which made the view.
+                        let x_j = unsafe { x_j.at(j) };
+                        block[k as usize - base] = pair_kernel::<D, K>(xi - x_j, kernel);
+                    }
                 }
-            }
-            for &(k, m) in &self.local[self.local_start[rows.start]..self.local_start[rows.end]] {
-                block[k as usize - base] = reversed(block[m as usize - base]);
-            }
-        });
+                for &(k, m) in &self.local[self.local_start[rows.start]..self.local_start[rows.end]]
+                {
+                    block[k as usize - base] = reversed(block[m as usize - base]);
+                }
+            },
+        );
     }
 }
 

@@ -11,6 +11,10 @@
 //! oscillating-plate-2d --method ul-enog --set h_over_dp=1.3 --threads 2 --no-output`). Every
 //! loop that uses these helpers is a gather (each task writes only its own entries, sums in
 //! neighbour-list order), so the results are identical for any thread count and any split.
+//!
+//! Each task's rows run through [`crate::wide::dispatch`]: compiled with AVX2 and FMA where the
+//! CPU has them, with the same results. A hot loop passes its per-particle closure as
+//! `#[inline(always)] |i, out| …`, so that the closure is compiled into both copies.
 
 /// The fewest particles a parallel task gets: loops over fewer than twice this many particles
 /// run on the calling thread.
@@ -26,21 +30,27 @@ pub fn worth_splitting(n: usize) -> bool {
 /// on the [`crate::team`].
 #[inline]
 pub fn gather<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
+    let rows = |start: usize, part: &mut [T]| {
+        crate::wide::dispatch(
+            #[inline(always)]
+            || {
+                for (k, o) in part.iter_mut().enumerate() {
+                    f(start + k, o);
+                }
+            },
+        )
+    };
     let n = out.len();
     if !worth_splitting(n) {
-        out.iter_mut().enumerate().for_each(|(i, o)| f(i, o));
-        return;
+        return rows(0, out);
     }
     let tasks = task_count(n);
     let out = SharedMut::new(out);
     crate::team::run_tasks(tasks, &|k| {
-        let rows = k * n / tasks..(k + 1) * n / tasks;
-        let start = rows.start;
+        let range = k * n / tasks..(k + 1) * n / tasks;
+        let start = range.start;
         // SAFETY: the tasks' ranges are disjoint and within `out`.
-        let part = unsafe { out.slice(rows) };
-        part.iter_mut()
-            .enumerate()
-            .for_each(|(i, o)| f(start + i, o));
+        rows(start, unsafe { out.slice(range) });
     });
 }
 
@@ -55,40 +65,62 @@ pub fn gather2<A: Send, B: Send>(
     f: impl Fn(usize, &mut A, &mut B) + Sync + Send,
 ) {
     assert_eq!(a.len(), b.len(), "gather2 lengths");
+    let rows = |start: usize, pa: &mut [A], pb: &mut [B]| {
+        crate::wide::dispatch(
+            #[inline(always)]
+            || {
+                for (k, (a, b)) in pa.iter_mut().zip(pb.iter_mut()).enumerate() {
+                    f(start + k, a, b);
+                }
+            },
+        )
+    };
     let n = a.len();
     if !worth_splitting(n) {
-        for (i, (a, b)) in a.iter_mut().zip(b.iter_mut()).enumerate() {
-            f(i, a, b);
-        }
-        return;
+        return rows(0, a, b);
     }
     let tasks = task_count(n);
     let (a, b) = (SharedMut::new(a), SharedMut::new(b));
     crate::team::run_tasks(tasks, &|k| {
-        let rows = k * n / tasks..(k + 1) * n / tasks;
-        let start = rows.start;
+        let range = k * n / tasks..(k + 1) * n / tasks;
         // SAFETY: the tasks' ranges are disjoint and within both arrays.
-        let (pa, pb) = unsafe { (a.slice(rows.clone()), b.slice(rows)) };
-        for (i, (a, b)) in pa.iter_mut().zip(pb.iter_mut()).enumerate() {
-            f(start + i, a, b);
-        }
+        let (pa, pb) = unsafe { (a.slice(range.clone()), b.slice(range.clone())) };
+        rows(range.start, pa, pb);
     });
 }
 
 /// The largest `f(i)` over `0..n` (`init` when `n == 0`), on the [`crate::team`]. Exact in any
 /// order, hence the same for every thread count (a NaN is dropped, as by `f64::max`).
 pub fn max_over(n: usize, init: f64, f: impl Fn(usize) -> f64 + Sync + Send) -> f64 {
-    fold_chunks(n, |rows| rows.map(&f).fold(init, f64::max))
-        .into_iter()
-        .fold(init, f64::max)
+    fold_chunks(
+        n,
+        #[inline(always)]
+        |rows| rows.map(&f).fold(init, f64::max),
+    )
+    .into_iter()
+    .fold(init, f64::max)
 }
 
 /// The smallest `i < n` with `pred(i)`, on the [`crate::team`] (the same for every thread count).
 pub fn first_index(n: usize, pred: impl Fn(usize) -> bool + Sync + Send) -> Option<usize> {
-    fold_chunks(n, |mut rows| rows.find(|&i| pred(i)))
-        .into_iter()
-        .flatten()
-        .next()
+    fold_chunks(
+        n,
+        #[inline(always)]
+        |rows| {
+            // A loop, not `Iterator::find`: `find`'s own closure would not be inlined into
+            // the AVX2 copy (crate::wide).
+            #[allow(clippy::manual_find)]
+            for i in rows {
+                if pred(i) {
+                    return Some(i);
+                }
+            }
+            None
+        },
+    )
+    .into_iter()
+    .flatten()
+    .next()
 }
 
 /// How many equal tasks a loop over `n` particles (`n` ≥ 2 × [`MIN_PARTICLES_PER_TASK`]) is cut
@@ -109,7 +141,10 @@ pub fn map_tasks<R: Send>(tasks: usize, f: impl Fn(usize) -> R + Sync + Send) ->
     crate::team::run_tasks(tasks, &|k| {
         // SAFETY: task `k` alone writes slot `k`.
         let slot = unsafe { slots.slice(k..k + 1) };
-        slot[0] = Some(f(k));
+        slot[0] = Some(crate::wide::dispatch(
+            #[inline(always)]
+            || f(k),
+        ));
     });
     out.into_iter()
         .map(|r| r.expect("every task ran"))
@@ -125,10 +160,17 @@ pub fn fold_chunks<R: Send>(
     fold: impl Fn(std::ops::Range<usize>) -> R + Sync + Send,
 ) -> Vec<R> {
     if !worth_splitting(n) {
-        return vec![fold(0..n)];
+        return vec![crate::wide::dispatch(
+            #[inline(always)]
+            || fold(0..n),
+        )];
     }
     let tasks = task_count(n);
-    map_tasks(tasks, |k| fold(k * n / tasks..(k + 1) * n / tasks))
+    map_tasks(
+        tasks,
+        #[inline(always)]
+        |k| fold(k * n / tasks..(k + 1) * n / tasks),
+    )
 }
 
 /// Per-particle arrays one loop writes together: a tuple of mutable slices, each either one
@@ -212,13 +254,21 @@ pub fn fold_columns<'a, C: Columns<'a>, R: Send>(
     let shared = columns.share(n);
     // SAFETY (both): the ranges are disjoint and within `0..n`; each is one task's.
     if !worth_splitting(n) {
-        return vec![fold(0..n, unsafe { C::part(&shared, 0..n) })];
+        let part = unsafe { C::part(&shared, 0..n) };
+        return vec![crate::wide::dispatch(
+            #[inline(always)]
+            || fold(0..n, part),
+        )];
     }
     let tasks = task_count(n);
-    map_tasks(tasks, |k| {
-        let rows = k * n / tasks..(k + 1) * n / tasks;
-        fold(rows.clone(), unsafe { C::part(&shared, rows) })
-    })
+    map_tasks(
+        tasks,
+        #[inline(always)]
+        |k| {
+            let rows = k * n / tasks..(k + 1) * n / tasks;
+            fold(rows.clone(), unsafe { C::part(&shared, rows) })
+        },
+    )
 }
 
 /// [`fold_columns`] without a result: `update(rows, part)` for the rows of every task.
@@ -229,13 +279,19 @@ pub fn gather_columns<'a, C: Columns<'a>>(
 ) {
     let shared = columns.share(n);
     // SAFETY (both): the ranges are disjoint and within `0..n`; each is one task's.
+    let rows = |rows: std::ops::Range<usize>, part: C::Part| {
+        crate::wide::dispatch(
+            #[inline(always)]
+            || update(rows, part),
+        )
+    };
     if !worth_splitting(n) {
-        return update(0..n, unsafe { C::part(&shared, 0..n) });
+        return rows(0..n, unsafe { C::part(&shared, 0..n) });
     }
     let tasks = task_count(n);
     crate::team::run_tasks(tasks, &|k| {
-        let rows = k * n / tasks..(k + 1) * n / tasks;
-        update(rows.clone(), unsafe { C::part(&shared, rows) });
+        let range = k * n / tasks..(k + 1) * n / tasks;
+        rows(range.clone(), unsafe { C::part(&shared, range) });
     });
 }
 
@@ -276,16 +332,21 @@ impl<T> SharedMut<T> {
 pub fn gather_slices<T: Send>(
     offsets: &[usize],
     out: &mut [T],
-    f: &(impl Fn(usize, &mut [T]) + Sync),
+    f: impl Fn(usize, &mut [T]) + Sync,
 ) {
-    gather_blocks(offsets, out, &|rows, mut block: &mut [T]| {
-        for i in rows {
-            let (slots, tail) =
-                std::mem::take(&mut block).split_at_mut(offsets[i + 1] - offsets[i]);
-            f(i, slots);
-            block = tail;
-        }
-    });
+    gather_blocks(
+        offsets,
+        out,
+        #[inline(always)]
+        |rows, mut block: &mut [T]| {
+            for i in rows {
+                let (slots, tail) =
+                    std::mem::take(&mut block).split_at_mut(offsets[i + 1] - offsets[i]);
+                f(i, slots);
+                block = tail;
+            }
+        },
+    );
 }
 
 /// `f(rows, block)` for the blocks of particles [`gather_slices`] hands to one task each, where
@@ -298,14 +359,14 @@ pub fn gather_slices<T: Send>(
 pub fn gather_blocks<T: Send>(
     offsets: &[usize],
     out: &mut [T],
-    f: &(impl Fn(std::ops::Range<usize>, &mut [T]) + Sync),
+    f: impl Fn(std::ops::Range<usize>, &mut [T]) + Sync,
 ) {
     let n = offsets.len().saturating_sub(1);
     if n == 0 {
         return;
     }
     assert_eq!(out.len(), offsets[n] - offsets[0], "pair buffer length");
-    split_blocks(offsets, out, f);
+    split_blocks(offsets, out, &f);
 }
 
 /// The first particle of the block of [`gather_blocks`] over `n` particles that holds particle
@@ -357,7 +418,10 @@ fn split_blocks<T: Send>(
         }
         // SAFETY: the leaves of the tree are disjoint row ranges, each run by one task.
         let block = unsafe { out.slice(offsets[start] - base..offsets[end] - base) };
-        f(start..end, block);
+        crate::wide::dispatch(
+            #[inline(always)]
+            || f(start..end, block),
+        );
     });
 }
 
@@ -373,7 +437,7 @@ mod tests {
                 offsets.push(offsets[i] + (i * 7919) % 5);
             }
             let mut out = vec![usize::MAX; offsets[n]];
-            gather_slices(&offsets, &mut out, &|i, slots: &mut [usize]| {
+            gather_slices(&offsets, &mut out, |i, slots: &mut [usize]| {
                 for s in slots {
                     assert_eq!(*s, usize::MAX, "slot written twice");
                     *s = i;
@@ -390,7 +454,7 @@ mod tests {
         for n in [1usize, 1023, 1024, 5000, 70_001] {
             let offsets: Vec<usize> = (0..=n).collect();
             let mut out = vec![usize::MAX; n];
-            gather_blocks(&offsets, &mut out, &|rows, block: &mut [usize]| {
+            gather_blocks(&offsets, &mut out, |rows, block: &mut [usize]| {
                 assert_eq!(block.len(), rows.len());
                 block.iter_mut().for_each(|b| *b = rows.start);
             });

@@ -163,15 +163,15 @@ impl<D: Dim> Material<D> for MaterialModel {
     fn constants(&self) -> &ElasticConstants {
         dispatch!(self, m => Material::<D>::constants(m))
     }
-    #[inline]
+    #[inline(always)]
     fn second_piola_kirchhoff(&self, f: D::Matrix) -> D::Matrix {
         dispatch!(self, m => Material::<D>::second_piola_kirchhoff(m, f))
     }
-    #[inline]
+    #[inline(always)]
     fn first_piola_kirchhoff(&self, f: D::Matrix) -> D::Matrix {
         dispatch!(self, m => Material::<D>::first_piola_kirchhoff(m, f))
     }
-    #[inline]
+    #[inline(always)]
     fn kirchhoff_stress(&self, f: D::Matrix) -> D::Matrix {
         dispatch!(self, m => Material::<D>::kirchhoff_stress(m, f))
     }
@@ -182,7 +182,7 @@ impl<D: Dim> Material<D> for MaterialModel {
     fn strain_energy_density(&self, f: D::Matrix) -> Option<f64> {
         dispatch!(self, m => Material::<D>::strain_energy_density(m, f))
     }
-    #[inline]
+    #[inline(always)]
     fn hf_split(&self, f: D::Matrix, zeta: f64) -> (D::Matrix, f64) {
         dispatch!(self, m => Material::<D>::hf_split(m, f, zeta))
     }

@@ -77,25 +77,30 @@ impl ResolvedContact {
         let body = &self.body_of;
         // Per-particle energies summed in index order: the same for every thread count.
         let mut energies = vec![0.0; positions.len()];
-        gather2(forces, &mut energies, |i, f, energy| {
-            let xi = positions[i];
-            let mut sum = D::zero();
-            let mut e = 0.0;
-            // Gather over the candidates in the order the grid gives them (deterministic).
-            grid.for_each_candidate_at(xi, |j, xj| {
-                if body[j as usize] == body[i] {
-                    return;
-                }
-                let d = xi - xj;
-                let r = D::norm(d);
-                if r < rc && r > 0.0 {
-                    sum += d * (k * (rc - r) / r);
-                    e += 0.25 * k * (rc - r) * (rc - r);
-                }
-            });
-            *f += sum;
-            *energy = e;
-        });
+        gather2(
+            forces,
+            &mut energies,
+            #[inline(always)]
+            |i, f, energy| {
+                let xi = positions[i];
+                let mut sum = D::zero();
+                let mut e = 0.0;
+                // Gather over the candidates in the order the grid gives them (deterministic).
+                grid.for_each_candidate_at(xi, |j, xj| {
+                    if body[j as usize] == body[i] {
+                        return;
+                    }
+                    let d = xi - xj;
+                    let r = D::norm(d);
+                    if r < rc && r > 0.0 {
+                        sum += d * (k * (rc - r) / r);
+                        e += 0.25 * k * (rc - r) * (rc - r);
+                    }
+                });
+                *f += sum;
+                *energy = e;
+            },
+        );
         Ok(energies.iter().sum())
     }
 }

@@ -386,10 +386,14 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// would allow (the blow-up guard of `step`; NaN if a speed or acceleration is NaN).
     fn state_dt(&self) -> f64 {
         let max = |v: &[D::Vector]| {
-            let local = sph_core::parallel::fold_chunks(v.len(), |rows| {
-                rows.map(|i| D::norm_squared(v[i]))
-                    .fold(0.0, diagnostics::max_or_nan)
-            })
+            let local = sph_core::parallel::fold_chunks(
+                v.len(),
+                #[inline(always)]
+                |rows| {
+                    rows.map(|i| D::norm_squared(v[i]))
+                        .fold(0.0, diagnostics::max_or_nan)
+                },
+            )
             .into_iter()
             .fold(0.0, diagnostics::max_or_nan)
             .sqrt();

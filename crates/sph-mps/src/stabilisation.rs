@@ -114,21 +114,25 @@ impl<D: Dim> Stabilisation<D> {
             list.values(deformation),
             list.values(&self.scale),
         );
-        gather(forces, |i, out| {
-            let (si, fi, xi) = (self.scale[i], deformation[i], x[i]);
-            let mut f = D::zero();
-            for (k, &j) in list.range(i).zip(list.neighbors(i)) {
-                let j = j as usize;
-                // SAFETY: `j` is an index of `list`, which made the views.
-                let (x_j, f_j, s_j) = unsafe { (x_j.at(j), f_j.at(j), s_j.at(j)) };
-                let xij = x_j - xi;
-                let r_ij = xij - fi * self.reference[k];
-                // r_ji = x_ji − F_j X_ji = −(x_ij − F_j X_ij).
-                let r_ji = (f_j * self.reference[k]) - xij;
-                f += (r_ij * si - r_ji * s_j) * self.pair[k];
-            }
-            *out += f;
-        });
+        gather(
+            forces,
+            #[inline(always)]
+            |i, out| {
+                let (si, fi, xi) = (self.scale[i], deformation[i], x[i]);
+                let mut f = D::zero();
+                for (k, &j) in list.range(i).zip(list.neighbors(i)) {
+                    let j = j as usize;
+                    // SAFETY: `j` is an index of `list`, which made the views.
+                    let (x_j, f_j, s_j) = unsafe { (x_j.at(j), f_j.at(j), s_j.at(j)) };
+                    let xij = x_j - xi;
+                    let r_ij = xij - fi * self.reference[k];
+                    // r_ji = x_ji − F_j X_ji = −(x_ij − F_j X_ij).
+                    let r_ji = (f_j * self.reference[k]) - xij;
+                    f += (r_ij * si - r_ji * s_j) * self.pair[k];
+                }
+                *out += f;
+            },
+        );
     }
 
     /// The energy of every particle, `½ s_i Σ_j k_ij |r_ij|²` (diagnostics).
@@ -163,11 +167,16 @@ impl<D: Dim> Stabilisation<D> {
     ) -> f64 {
         // Per-particle energies summed in index order: the same for every thread count.
         let mut energy = vec![0.0; x.len()];
-        gather2(stress_term, &mut energy, |i, g, e| {
-            let (t, ei) = self.particle_terms(i, list, x, deformation[i]);
-            *g += t;
-            *e = ei;
-        });
+        gather2(
+            stress_term,
+            &mut energy,
+            #[inline(always)]
+            |i, g, e| {
+                let (t, ei) = self.particle_terms(i, list, x, deformation[i]);
+                *g += t;
+                *e = ei;
+            },
+        );
         energy.iter().sum()
     }
 }

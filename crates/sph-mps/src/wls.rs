@@ -242,10 +242,15 @@ pub fn deformation_and_stress<D: Dim, M: Material<D>>(
     deformation: &mut [D::Matrix],
     stress_term: &mut [D::Matrix],
 ) {
-    gather2(deformation, stress_term, |i, f, t| {
-        *f = deformation_gradient::<D>(list, i, g, x);
-        *t = material.first_piola_kirchhoff(*f) * volumes[i];
-    });
+    gather2(
+        deformation,
+        stress_term,
+        #[inline(always)]
+        |i, f, t| {
+            *f = deformation_gradient::<D>(list, i, g, x);
+            *t = material.first_piola_kirchhoff(*f) * volumes[i];
+        },
+    );
 }
 
 /// Pass 2, parallel over particles (gather): the internal force of eq 7,
@@ -259,16 +264,20 @@ pub fn internal_forces<D: Dim>(
     forces: &mut [D::Vector],
 ) {
     let t_j = list.values(stress_term);
-    gather(forces, |i, out| {
-        let ti = stress_term[i];
-        let mut f = D::zero();
-        let r = list.range(i);
-        for ((&j, &gij), &gji) in list.neighbors(i).iter().zip(&g[r.clone()]).zip(&g_rev[r]) {
-            // SAFETY: `j` is an index of `list`, which made the view.
-            f += ti * gij - unsafe { t_j.at(j as usize) } * gji;
-        }
-        *out = f;
-    });
+    gather(
+        forces,
+        #[inline(always)]
+        |i, out| {
+            let ti = stress_term[i];
+            let mut f = D::zero();
+            let r = list.range(i);
+            for ((&j, &gij), &gji) in list.neighbors(i).iter().zip(&g[r.clone()]).zip(&g_rev[r]) {
+                // SAFETY: `j` is an index of `list`, which made the view.
+                f += ti * gij - unsafe { t_j.at(j as usize) } * gji;
+            }
+            *out = f;
+        },
+    );
 }
 
 /// For every pair `k = (i, j)` of the (symmetric) list, the index of the reverse pair `(j, i)`.

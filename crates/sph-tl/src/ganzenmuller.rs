@@ -32,20 +32,24 @@ pub fn add_penalty_acceleration<D: Dim>(
         list.values(reference),
         list.values(deformation),
     );
-    gather(acc, |i, a| {
-        let (xi, x0i, fi) = (positions[i], reference[i], deformation[i]);
-        let sum = pairs.fold(i, D::zero(), move |sum, j, _, w| {
-            // SAFETY: the rows visit the indices of `pairs.list()`, which made the views.
-            let (x_j, x0_j, f_j) = unsafe { (x_j.at(j), x0_j.at(j), f_j.at(j)) };
-            let xij = xi - x_j;
-            let r = D::norm(xij);
-            if r <= 0.0 {
-                return sum;
-            }
-            let e = xij * (1.0 / r);
-            let predicted = (fi + f_j) * (x0i - x0_j);
-            sum + e * (w * D::dot(predicted - xij * 2.0, e))
-        });
-        *a += sum * scale;
-    });
+    gather(
+        acc,
+        #[inline(always)]
+        |i, a| {
+            let (xi, x0i, fi) = (positions[i], reference[i], deformation[i]);
+            let sum = pairs.fold(i, D::zero(), move |sum, j, _, w| {
+                // SAFETY: the rows visit the indices of `pairs.list()`, which made the views.
+                let (x_j, x0_j, f_j) = unsafe { (x_j.at(j), x0_j.at(j), f_j.at(j)) };
+                let xij = xi - x_j;
+                let r = D::norm(xij);
+                if r <= 0.0 {
+                    return sum;
+                }
+                let e = xij * (1.0 / r);
+                let predicted = (fi + f_j) * (x0i - x0_j);
+                sum + e * (w * D::dot(predicted - xij * 2.0, e))
+            });
+            *a += sum * scale;
+        },
+    );
 }

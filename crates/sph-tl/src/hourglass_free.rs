@@ -66,16 +66,21 @@ pub fn acceleration<D: Dim>(
         list.values(positions),
         list.values(isochoric),
     );
-    gather(acc, |i, a| {
-        let (pi, xi, ji) = (remaining[i], positions[i], isochoric[i]);
-        let (div, shear) = pairs.fold(i, (D::zero(), D::zero()), move |(div, shear), j, g, s| {
-            // SAFETY: the rows visit the indices of `pairs.list()`, which made the views.
-            let (p_j, x_j, iso_j) = unsafe { (p_j.at(j), x_j.at(j), iso_j.at(j)) };
-            (
-                div + (pi + p_j) * g,
-                shear + (xi - x_j) * ((ji + iso_j) * s),
-            )
-        });
-        *a = div * inv_density + shear * zeta_g_over_rho;
-    });
+    gather(
+        acc,
+        #[inline(always)]
+        |i, a| {
+            let (pi, xi, ji) = (remaining[i], positions[i], isochoric[i]);
+            let (div, shear) =
+                pairs.fold(i, (D::zero(), D::zero()), move |(div, shear), j, g, s| {
+                    // SAFETY: the rows visit the indices of `pairs.list()`, which made the views.
+                    let (p_j, x_j, iso_j) = unsafe { (p_j.at(j), x_j.at(j), iso_j.at(j)) };
+                    (
+                        div + (pi + p_j) * g,
+                        shear + (xi - x_j) * ((ji + iso_j) * s),
+                    )
+                });
+            *a = div * inv_density + shear * zeta_g_over_rho;
+        },
+    );
 }

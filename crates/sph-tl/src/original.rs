@@ -41,14 +41,18 @@ pub fn stress_divergence<D: Dim>(
     acc: &mut [D::Vector],
 ) {
     let stress_j = pairs.list().values(stress);
-    gather(acc, |i, a| {
-        let si = stress[i];
-        let sum = pairs.fold_gradient(i, D::zero(), move |sum, j, g| {
-            // SAFETY: the rows visit the indices of `pairs.list()`, which made the view.
-            sum + (si + unsafe { stress_j.at(j) }) * g
-        });
-        *a = sum * inv_density;
-    });
+    gather(
+        acc,
+        #[inline(always)]
+        |i, a| {
+            let si = stress[i];
+            let sum = pairs.fold_gradient(i, D::zero(), move |sum, j, g| {
+                // SAFETY: the rows visit the indices of `pairs.list()`, which made the view.
+                sum + (si + unsafe { stress_j.at(j) }) * g
+            });
+            *a = sum * inv_density;
+        },
+    );
 }
 
 /// Eq 22: `Ḟ_i = (Σ_j (v_j − v_i) ⊗ V_j ∇⁰_i W_ij) B_i`, written into `f_dot`.
@@ -59,14 +63,18 @@ pub fn deformation_rate<D: Dim>(
     f_dot: &mut [D::Matrix],
 ) {
     let velocity_j = pairs.list().values(velocities);
-    gather(f_dot, |i, fd| {
-        let vi = velocities[i];
-        let sum = pairs.fold_gradient(i, D::zero_matrix(), move |sum, j, g| {
-            // SAFETY: the rows visit the indices of `pairs.list()`, which made the view.
-            sum + D::outer(unsafe { velocity_j.at(j) } - vi, g)
-        });
-        *fd = sum * correction[i];
-    });
+    gather(
+        f_dot,
+        #[inline(always)]
+        |i, fd| {
+            let vi = velocities[i];
+            let sum = pairs.fold_gradient(i, D::zero_matrix(), move |sum, j, g| {
+                // SAFETY: the rows visit the indices of `pairs.list()`, which made the view.
+                sum + D::outer(unsafe { velocity_j.at(j) } - vi, g)
+            });
+            *fd = sum * correction[i];
+        },
+    );
 }
 
 /// `F_i = I + (Σ_j (u_j − u_i) ⊗ V_j ∇⁰_i W_ij) B_i` for displacements `u = x − X`: the

@@ -323,9 +323,13 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         match self.shear {
             Shear::Original | Shear::Ganzenmuller { .. } => {
                 let (f, fd, b) = (&self.deformation, &self.deformation_rate, &self.correction);
-                gather(&mut self.stress, |i, s| {
-                    *s = original::corrected_piola::<D, M>(material, gamma, f[i], fd[i], b[i]);
-                });
+                gather(
+                    &mut self.stress,
+                    #[inline(always)]
+                    |i, s| {
+                        *s = original::corrected_piola::<D, M>(material, gamma, f[i], fd[i], b[i]);
+                    },
+                );
                 let (stress, acc) = (&self.stress, &mut self.accelerations);
                 with_pair_rows!(view, |rows| {
                     original::stress_divergence::<D>(rows, stress, inv_rho, acc);
@@ -344,12 +348,18 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             }
             Shear::HourglassFree { zeta } => {
                 let (f, fd) = (&self.deformation, &self.deformation_rate);
-                gather2(&mut self.stress, &mut self.isochoric, |i, s, jf| {
-                    let (p, j) =
-                        hourglass_free::remaining_piola::<D, M>(material, zeta, gamma, f[i], fd[i]);
-                    *s = p;
-                    *jf = j;
-                });
+                gather2(
+                    &mut self.stress,
+                    &mut self.isochoric,
+                    #[inline(always)]
+                    |i, s, jf| {
+                        let (p, j) = hourglass_free::remaining_piola::<D, M>(
+                            material, zeta, gamma, f[i], fd[i],
+                        );
+                        *s = p;
+                        *jf = j;
+                    },
+                );
                 let g = material.constants().shear_modulus;
                 let (stress, acc) = (&self.stress, &mut self.accelerations);
                 with_pair_rows!(view, |rows| hourglass_free::acceleration::<D>(
@@ -503,7 +513,11 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             .apply_to_accelerations(&mut self.accelerations);
         // Eq 31: velocities to the full step.
         let acc = &self.accelerations;
-        gather(&mut self.velocities, |i, v| *v += acc[i] * dt);
+        gather(
+            &mut self.velocities,
+            #[inline(always)]
+            |i, v| *v += acc[i] * dt,
+        );
         // Frictionless contact with the tools, then the quasi-static relaxation of the
         // admissible velocities, then contact again if the relaxation ran (it may have pulled a
         // touching particle toward a tool). Relaxing before the contact would spread the
@@ -697,8 +711,13 @@ fn half_step<D: Dim>(
     h: f64,
 ) {
     // One loop for both: a hand-off less per half step.
-    gather2(f, x, |i, f, x| {
-        *f += f_dot[i] * h;
-        *x += v[i] * h;
-    });
+    gather2(
+        f,
+        x,
+        #[inline(always)]
+        |i, f, x| {
+            *f += f_dot[i] * h;
+            *x += v[i] * h;
+        },
+    );
 }

@@ -123,16 +123,20 @@ impl<D: Dim> Contact<D> {
             &mut self.density,
         );
         let (list, pairs, rho_c, k) = (&self.list, &self.pairs, &self.density, self.stiffness);
-        gather(&mut self.accelerations, |i, a| {
-            let v_i = masses[i] / densities[i];
-            let mut acc = D::zero();
-            for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
-                let j = j as usize;
-                let p_star = 0.5 * k * (rho_c[i] + rho_c[j]);
-                acc += pk.e * contact_pair_factor(p_star, v_i, masses[j] / densities[j], pk.dw);
-            }
-            *a = acc / masses[i];
-        });
+        gather(
+            &mut self.accelerations,
+            #[inline(always)]
+            |i, a| {
+                let v_i = masses[i] / densities[i];
+                let mut acc = D::zero();
+                for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
+                    let j = j as usize;
+                    let p_star = 0.5 * k * (rho_c[i] + rho_c[j]);
+                    acc += pk.e * contact_pair_factor(p_star, v_i, masses[j] / densities[j], pk.dw);
+                }
+                *a = acc / masses[i];
+            },
+        );
         out.iter_mut()
             .zip(&self.accelerations)
             .for_each(|(o, &a)| *o += a);
@@ -186,13 +190,17 @@ fn contact_density<D: Dim>(
     w_dp: f64,
     out: &mut [f64],
 ) {
-    gather(out, |i, rho_c| {
-        *rho_c = pairs[list.range(i)]
-            .iter()
-            .zip(list.neighbors(i))
-            .map(|(pk, &j)| (pk.w(kernel) - w_dp).max(0.0) * masses[j as usize])
-            .sum();
-    });
+    gather(
+        out,
+        #[inline(always)]
+        |i, rho_c| {
+            *rho_c = pairs[list.range(i)]
+                .iter()
+                .zip(list.neighbors(i))
+                .map(|(pk, &j)| (pk.w(kernel) - w_dp).max(0.0) * masses[j as usize])
+                .sum();
+        },
+    );
 }
 
 /// Contact force of one pair (docs/methods.md, SPHinXsys's contact force), the factor of `e_ij` in

@@ -145,10 +145,15 @@ impl<D: Dim> UlSolver<D> {
     fn update_pressures(&mut self) {
         let (rho0, c0) = (self.rho0, self.c0);
         let (rho, m) = (&self.densities, &self.masses);
-        gather2(&mut self.pressures, &mut self.current_volumes, |i, p, v| {
-            *p = pressure(rho[i], rho0, c0);
-            *v = m[i] / rho[i];
-        });
+        gather2(
+            &mut self.pressures,
+            &mut self.current_volumes,
+            #[inline(always)]
+            |i, p, v| {
+                *p = pressure(rho[i], rho0, c0);
+                *v = m[i] / rho[i];
+            },
+        );
     }
 
     /// Step 4 of the module docs: continuity (eq 11), the Jaumann rate of `τ` (eq 6–8, 14/26)
@@ -234,69 +239,79 @@ impl<D: Dim> UlSolver<D> {
             &mut self.accumulated[..],
             &mut self.jump_work[..],
         );
-        let max_norm2 = fold_columns(n, columns, |rows, (r, x, rho, tau, a_s, jw)| {
-            let mut max_norm2 = 0.0;
-            for (k, i) in rows.enumerate() {
-                let out = &mut r[k];
-                let (v_i, p_i, rho_i) = (x_v[i], p[i], rho[k]);
-                let (mut drho, mut jump) = (0.0, 0.0);
-                let mut l = D::zero_matrix();
-                let mut lap = D::zero();
-                for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
-                    // SAFETY: `j` is an index of `list`, which made the three views.
-                    let (v_j, x_v_j, p_j) = unsafe {
-                        (
-                            vol_j.at(j as usize),
-                            x_v_j.at(j as usize),
-                            p_j.at(j as usize),
-                        )
-                    };
-                    let v_ij = v_i - x_v_j;
-                    let u = D::dot(v_ij, pk.e);
-                    drho += u * pk.dw * v_j;
-                    if JUMP {
-                        jump += continuity_jump(p_i, p_j, rho0_c0, scheme) * pk.dw * v_j;
+        let max_norm2 = fold_columns(
+            n,
+            columns,
+            #[inline(always)]
+            |rows, (r, x, rho, tau, a_s, jw)| {
+                let mut max_norm2 = 0.0;
+                for (k, i) in rows.enumerate() {
+                    let out = &mut r[k];
+                    let (v_i, p_i, rho_i) = (x_v[i], p[i], rho[k]);
+                    let (mut drho, mut jump) = (0.0, 0.0);
+                    let mut l = D::zero_matrix();
+                    let mut lap = D::zero();
+                    for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
+                        // SAFETY: `j` is an index of `list`, which made the three views.
+                        let (v_j, x_v_j, p_j) = unsafe {
+                            (
+                                vol_j.at(j as usize),
+                                x_v_j.at(j as usize),
+                                p_j.at(j as usize),
+                            )
+                        };
+                        let v_ij = v_i - x_v_j;
+                        let u = D::dot(v_ij, pk.e);
+                        drho += u * pk.dw * v_j;
+                        if JUMP {
+                            jump += continuity_jump(p_i, p_j, rho0_c0, scheme) * pk.dw * v_j;
+                        }
+                        if GRAD {
+                            l += velocity_gradient_pair::<D>(v_ij, pk.e, pk.dw, v_j);
+                        }
+                        match LAP {
+                            1 => {
+                                lap +=
+                                    conservative_laplacian_pair::<D>(v_ij, pk.e, pk.r, pk.dw, v_j)
+                            }
+                            2 => {
+                                lap += non_conservative_laplacian_pair::<D>(v_ij, pk.r, pk.dw, v_j)
+                            }
+                            _ => {}
+                        }
                     }
+                    // Eq 11: ρ_i Σ [u_ij + (p_i − p_j)/(ρ0 c0)] W′ V_j, the jump part kept apart.
+                    out.density = rho_i * (drho + jump);
+                    out.density_jump = rho_i * jump;
                     if GRAD {
-                        l += velocity_gradient_pair::<D>(v_ij, pk.e, pk.dw, v_j);
+                        if corrected {
+                            l = l * b[i];
+                        }
+                        out.stress = jaumann_rate::<D>(l, tau[k], g);
                     }
-                    match LAP {
-                        1 => lap += conservative_laplacian_pair::<D>(v_ij, pk.e, pk.r, pk.dw, v_j),
-                        2 => lap += non_conservative_laplacian_pair::<D>(v_ij, pk.r, pk.dw, v_j),
-                        _ => {}
+                    if LAP != 0 {
+                        out.shear = shear_acceleration_rate::<D>(lap, factor, g, rho_i);
                     }
+                    if let Some((h, dt)) = drift {
+                        if !jw.is_empty() {
+                            jw[k] = m[i] * pressure(rho_i, rho0, c0) / (rho_i * rho_i)
+                                * out.density_jump;
+                        }
+                        x[k] += v_i * h;
+                        rho[k] += out.density * h;
+                        if !tau.is_empty() {
+                            tau[k] += out.stress * h;
+                        }
+                        if !a_s.is_empty() {
+                            a_s[k] += out.shear * dt;
+                        }
+                    }
+                    let v2 = if free[i] { D::norm_squared(v_i) } else { 0.0 };
+                    max_norm2 = diagnostics::max_or_nan(max_norm2, v2);
                 }
-                // Eq 11: ρ_i Σ [u_ij + (p_i − p_j)/(ρ0 c0)] W′ V_j, the jump part kept apart.
-                out.density = rho_i * (drho + jump);
-                out.density_jump = rho_i * jump;
-                if GRAD {
-                    if corrected {
-                        l = l * b[i];
-                    }
-                    out.stress = jaumann_rate::<D>(l, tau[k], g);
-                }
-                if LAP != 0 {
-                    out.shear = shear_acceleration_rate::<D>(lap, factor, g, rho_i);
-                }
-                if let Some((h, dt)) = drift {
-                    if !jw.is_empty() {
-                        jw[k] =
-                            m[i] * pressure(rho_i, rho0, c0) / (rho_i * rho_i) * out.density_jump;
-                    }
-                    x[k] += v_i * h;
-                    rho[k] += out.density * h;
-                    if !tau.is_empty() {
-                        tau[k] += out.stress * h;
-                    }
-                    if !a_s.is_empty() {
-                        a_s[k] += out.shear * dt;
-                    }
-                }
-                let v2 = if free[i] { D::norm_squared(v_i) } else { 0.0 };
-                max_norm2 = diagnostics::max_or_nan(max_norm2, v2);
-            }
-            max_norm2
-        });
+                max_norm2
+            },
+        );
         if let Some((h, _)) = drift.filter(|_| jump_work) {
             self.work.density_jump += h * self.jump_work.iter().sum::<f64>();
         }
@@ -322,10 +337,14 @@ impl<D: Dim> UlSolver<D> {
                 inv_w_dp,
             } => {
                 let (tau, p, rho) = (&self.stress, &self.pressures, &self.densities);
-                gather(&mut self.artificial, |i, r| {
-                    let sigma = tau[i] - D::identity() * p[i];
-                    *r = artificial_stress::artificial_stress::<D>(sigma, rho[i], epsilon);
-                });
+                gather(
+                    &mut self.artificial,
+                    #[inline(always)]
+                    |i, r| {
+                        let sigma = tau[i] - D::identity() * p[i];
+                        *r = artificial_stress::artificial_stress::<D>(sigma, rho[i], epsilon);
+                    },
+                );
                 self.forces_loop(
                     ArtificialShear {
                         tau: &self.stress,
@@ -379,13 +398,22 @@ impl<D: Dim> UlSolver<D> {
             list.values(&self.pressures),
         );
         if parts.is_empty() {
-            gather(out, |i, a| {
-                *a = self.force_sum::<S, false>(&shear, neighbours, i).0;
-            });
+            gather(
+                out,
+                #[inline(always)]
+                |i, a| {
+                    *a = self.force_sum::<S, false>(&shear, neighbours, i).0;
+                },
+            );
         } else {
-            gather2(out, parts, |i, a, b| {
-                (*a, *b) = self.force_sum::<S, true>(&shear, neighbours, i);
-            });
+            gather2(
+                out,
+                parts,
+                #[inline(always)]
+                |i, a, b| {
+                    (*a, *b) = self.force_sum::<S, true>(&shear, neighbours, i);
+                },
+            );
         }
     }
 
@@ -487,7 +515,11 @@ impl<D: Dim> UlSolver<D> {
         }
         // Eq 24.
         let acc = &self.accelerations;
-        gather(&mut self.velocities, |i, v| *v += acc[i] * dt);
+        gather(
+            &mut self.velocities,
+            #[inline(always)]
+            |i, v| *v += acc[i] * dt,
+        );
         self.time += dt;
         self.constraints
             .apply_to_velocities(self.time, &mut self.velocities);
@@ -557,16 +589,21 @@ impl<D: Dim> UlSolver<D> {
             &mut self.pressures[..],
             &mut self.current_volumes[..],
         );
-        gather_columns(n, columns, |rows, (x, rho, tau, p, vol)| {
-            for (k, i) in rows.enumerate() {
-                x[k] += v[i] * h;
-                rho[k] += rates[i].density * h;
-                if !tau.is_empty() {
-                    tau[k] += rates[i].stress * h;
+        gather_columns(
+            n,
+            columns,
+            #[inline(always)]
+            |rows, (x, rho, tau, p, vol)| {
+                for (k, i) in rows.enumerate() {
+                    x[k] += v[i] * h;
+                    rho[k] += rates[i].density * h;
+                    if !tau.is_empty() {
+                        tau[k] += rates[i].stress * h;
+                    }
+                    p[k] = pressure(rho[k], rho0, c0);
+                    vol[k] = m[i] / rho[k];
                 }
-                p[k] = pressure(rho[k], rho0, c0);
-                vol[k] = m[i] / rho[k];
-            }
-        });
+            },
+        );
     }
 }
