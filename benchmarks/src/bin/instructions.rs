@@ -75,7 +75,7 @@ fn parse_cachegrind(text: &str) -> (u64, BTreeMap<String, u64>) {
     let mut current = String::new();
     for line in text.lines() {
         if let Some(name) = line.strip_prefix("fn=") {
-            current = name.to_string();
+            current = loop_name(name);
         } else if let Some(n) = line.strip_prefix("summary:") {
             total = n.trim().parse().expect("cachegrind summary");
         } else if line.starts_with(|c: char| c.is_ascii_digit()) {
@@ -88,6 +88,84 @@ fn parse_cachegrind(text: &str) -> (u64, BTreeMap<String, u64>) {
         }
     }
     (total, per_function)
+}
+
+/// The top-level generic arguments of `s`, which starts just after a `<` (up to its `>`).
+fn generic_args(s: &str) -> Vec<&str> {
+    let (mut depth, mut start, mut args) = (0usize, 0, Vec::new());
+    for (k, c) in s.char_indices() {
+        match c {
+            '<' | '(' | '[' => depth += 1,
+            '>' | ')' | ']' if depth == 0 => {
+                args.push(s[start..k].trim());
+                return args;
+            }
+            '>' | ')' | ']' => depth -= 1,
+            ',' if depth == 0 => {
+                args.push(s[start..k].trim());
+                start = k + 1;
+            }
+            _ => {}
+        }
+    }
+    args.push(s[start..].trim());
+    args
+}
+
+/// `name` without generic arguments and closure suffixes: `a::b<T>::{closure#0}` → `a::b`,
+/// `<a::S<T> as a::Tr<T>>::f` → `<a::S as a::Tr>::f`.
+fn without_generics(name: &str) -> String {
+    let mut out = String::new();
+    // How deep inside generic arguments being dropped.
+    let mut depth = 0usize;
+    for c in name.chars() {
+        if depth > 0 {
+            match c {
+                '<' => depth += 1,
+                '>' => depth -= 1,
+                _ => {}
+            }
+            continue;
+        }
+        match c {
+            // The bracket of a qualified path `<T as Trait>::f` stays.
+            '<' if out.is_empty() || out.ends_with('<') => out.push(c),
+            '<' => {
+                depth = 1;
+                if out.ends_with("::") {
+                    out.truncate(out.len() - 2);
+                }
+            }
+            _ => out.push(c),
+        }
+    }
+    if let Some(k) = out.find("::{") {
+        out.truncate(k);
+    }
+    out
+}
+
+/// The name a profile should show for a function of cachegrind's output. A particle loop's
+/// AVX2 copy is one instantiation of `sph_core::wide::with_avx2_fma` (v0 symbol names carry
+/// the instantiation): it is named after the loop it runs, the innermost closure given to a
+/// `sph_core::parallel` helper, with ` (AVX2)`; every other name loses its generic arguments.
+fn loop_name(name: &str) -> String {
+    const WIDE: &str = "sph_core::wide::with_avx2_fma::<";
+    let Some(inner) = name.strip_prefix(WIDE) else {
+        return without_generics(name);
+    };
+    // The last type argument is the loop's closure, e.g.
+    // `sph_core::parallel::gather<T, sph_tl::…::acceleration<…>::{closure#0}>::{closure#0}`:
+    // descend through the helpers to the closure they were given.
+    let mut body = generic_args(inner).last().copied().unwrap_or(inner);
+    while body.starts_with("sph_core::parallel::") {
+        let Some(open) = body.find('<') else { break };
+        match generic_args(&body[open + 1..]).last() {
+            Some(last) => body = last,
+            None => break,
+        }
+    }
+    format!("{} (AVX2)", without_generics(body))
 }
 
 fn main() {
@@ -216,8 +294,39 @@ mod tests {
         let (total, per) = parse_cachegrind(text);
         assert_eq!(total, 118);
         assert_eq!(per["f"], 115);
-        assert_eq!(per["g::{{closure}}"], 3);
+        assert_eq!(per["g"], 3);
         assert_eq!(per.values().sum::<u64>(), total);
+    }
+
+    #[test]
+    fn an_avx2_loop_is_named_after_its_closure() {
+        let wide = "sph_core::wide::with_avx2_fma::<(), sph_core::parallel::gather<\
+                    glam::f64::dvec3::DVec3, sph_tl::hourglass_free::acceleration<\
+                    sph_core::dim::D3, sph_tl::reference_pairs::StoredRows<sph_core::dim::D3>>\
+                    ::{closure#0}>::{closure#0}::{closure#0}>";
+        assert_eq!(
+            loop_name(wide),
+            "sph_tl::hourglass_free::acceleration (AVX2)"
+        );
+        let through_fold = "sph_core::wide::with_avx2_fma::<f64, sph_core::parallel::map_tasks<\
+                            f64, sph_core::parallel::fold_chunks<f64, sph_core::parallel::\
+                            max_over<sph_core::diagnostics::max_norm_where<sph_core::dim::D3>\
+                            ::{closure#0}>::{closure#0}>::{closure#0}>::{closure#1}::{closure#0}>";
+        assert_eq!(
+            loop_name(through_fold),
+            "sph_core::diagnostics::max_norm_where (AVX2)"
+        );
+        let method = "<sph_tl::solver::TlSolver<sph_core::dim::D3, sph_materials::model::\
+                      MaterialModel> as sph_core::solver::Solver<sph_core::dim::D3>>::energies";
+        assert_eq!(
+            loop_name(method),
+            "<sph_tl::solver::TlSolver as sph_core::solver::Solver>::energies"
+        );
+        assert_eq!(
+            loop_name("sph_core::pairs::PairSymmetry::new"),
+            "sph_core::pairs::PairSymmetry::new"
+        );
+        assert_eq!(loop_name("g::{{closure}}"), "g");
     }
 
     #[test]
