@@ -2,9 +2,9 @@
 //!
 //! The release build targets plain x86-64 (SSE2), so a binary runs on any x86-64 machine. The
 //! loops of a time step are compiled a second time with AVX2 and FMA enabled, and the
-//! [`crate::parallel`] helpers run that copy when the CPU has both (every Intel CPU since
-//! Haswell, 2013, and AMD since Excavator, 2015). A whole-program AVX2 build executes 12–18 %
-//! fewer instructions on the performance anchors (docs/performance.md).
+//! [`crate::parallel`] helpers run that copy when the CPU has both (Intel Core since Haswell,
+//! 2013, AMD since Excavator, 2015, and every x86-64 server CPU since). On the performance
+//! anchors it executes 11–22 % fewer instructions (docs/performance.md).
 //!
 //! **The results are the same bits on either copy.** Rust never contracts `a * b + c` into a
 //! fused multiply-add on its own (only `f64::mul_add` does, which is exactly rounded on either
