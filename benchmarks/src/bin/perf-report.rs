@@ -234,7 +234,10 @@ fn threads_section(md: &mut String) {
          2026-12-03, the three binaries (old, new, a copy of the old) interleaved ten times: \
          wall time moved by ±20 % with the load of the host that day, but the user time of one \
          thread repeated to ±2 % (the copy of the old binary against the old: medians \
-         0.995–1.000). One thread, user time: TL plate to 0.25 s 2.85 → 2.52 s (−11 %, \
+         0.995–1.000). One thread, user time (`/usr/bin/time`; `sph run oscillating-plate-2d \
+         --method tl --set h_over_dp=1.3 --set end_time=0.25 --no-output --threads 1`, the \
+         same with `--method ul-enog --set end_time=0.05`, and the twisting column's anchor \
+         command with `--set end_time=0.05`; medians): TL plate to 0.25 s 2.85 → 2.52 s (−11 %, \
          ratios 0.88–0.90 without the two extremes each side), UL-ENOG plate to 0.05 s 2.71 → \
          2.62 s (−3 %, 0.93–1.02), twisting column to 0.05 s 4.14 → 4.01 s (−2.5 %, \
          0.96–0.98). So most instructions saved in the 3D loops are cheap ones (the register \

@@ -299,6 +299,12 @@ impl<D: Dim> Constraints<D> {
         mask
     }
 
+    /// `mask[i]` is true for particles whose motion is not fully prescribed: the negation of
+    /// [`Self::prescribed_mask`], the particles the time-step maxima run over.
+    pub fn free_mask(&self, n: usize) -> Vec<bool> {
+        self.prescribed_mask(n).into_iter().map(|c| !c).collect()
+    }
+
     /// Relabels particle indices after a reordering (`inv[old] = new`).
     pub fn remap(&mut self, inv: &[u32]) {
         for c in &mut self.list {
@@ -672,6 +678,7 @@ mod tests {
             vec![DVec2::ZERO, DVec2::ZERO, DVec2::new(1.0, 0.0), DVec2::ONE]
         );
         assert_eq!(c.prescribed_mask(n), vec![true, true, false, false]);
+        assert_eq!(c.free_mask(n), vec![false, false, true, true]);
         let e = c
             .push(Constraint::Fixed { particles: vec![9] }, n)
             .unwrap_err()

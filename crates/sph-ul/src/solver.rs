@@ -183,11 +183,7 @@ impl<D: Dim> UlSolver<D> {
     /// reordering. Constrained particles are excluded from the time-step maxima.
     pub fn with_constraints(mut self, mut constraints: Constraints<D>) -> Self {
         constraints.remap(&self.inverse_index());
-        self.free = constraints
-            .prescribed_mask(self.len())
-            .into_iter()
-            .map(|c| !c)
-            .collect();
+        self.free = constraints.free_mask(self.len());
         self.constraints = constraints;
         self.refresh_rates();
         self.reset_budget();

@@ -16,11 +16,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// Named constraints (grips) record the reaction force they receive as a series
     /// `/series/<name>` with the mean position of their particles.
     pub fn with_constraints(mut self, constraints: Constraints<D>) -> Self {
-        self.free = constraints
-            .prescribed_mask(self.len())
-            .into_iter()
-            .map(|c| !c)
-            .collect();
+        self.free = constraints.free_mask(self.len());
         self.constraints = constraints;
         self.grip_meters = vec![ReactionMeter::default(); self.constraints.named().count()];
         self.rebuild_series();
