@@ -153,6 +153,94 @@ pub fn check_finite_state<D: Dim>(
     }
 }
 
+/// The per-step check of a solver that carries a deformation gradient, in one pass on the
+/// team: [`check_finite_state`] of `positions`, `velocities` and `matrices`, then
+/// [`check_jacobians`] of `matrices`, then the vectors of `more` (e.g. the accelerations)
+/// for non-finite entries; the first failure in that order is the error, as the separate calls
+/// would give. A healthy state costs one branch-free pass over the arrays (the separate checks
+/// were two passes on the team and a serial one, 11 % of the instructions of the MPS
+/// cantilever plate); only a failing state is searched again to name the entry.
+pub fn check_state<D: Dim>(
+    positions: &[D::Vector],
+    velocities: &[D::Vector],
+    matrices: (&str, &[D::Matrix]),
+    more: &[(&str, &[D::Vector])],
+    step: u64,
+    time: f64,
+) -> Result<(), Error> {
+    let (x, v, m) = (positions, velocities, matrices.1);
+    let n = x.len();
+    let same_length =
+        v.len() == n && (m.is_empty() || m.len() == n) && more.iter().all(|(_, a)| a.len() == n);
+    if same_length
+        && !crate::parallel::fold_chunks(
+            n,
+            #[inline(always)]
+            |rows| {
+                let mut bad = false;
+                for i in rows {
+                    bad |= vector_non_finite::<D>(x[i]) | vector_non_finite::<D>(v[i]);
+                    if let Some(&f) = m.get(i) {
+                        // A NaN, zero or negative Jacobian (check_jacobians).
+                        let j = D::det(f);
+                        bad |= matrix_non_finite::<D>(f) | j.is_nan() | (j <= 0.0);
+                    }
+                    for (_, a) in more {
+                        bad |= vector_non_finite::<D>(a[i]);
+                    }
+                }
+                bad
+            },
+        )
+        .contains(&true)
+    {
+        return Ok(());
+    }
+    check_finite_state::<D>(x, v, matrices, step, time)?;
+    check_jacobians::<D>(m, step, time)?;
+    for (field, a) in more {
+        if let Some(i) = crate::solver::first_non_finite::<D>(a) {
+            return Err(Error::NonFinite {
+                field: (*field).into(),
+                particle: i,
+                step,
+                time,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Whether `x` is NaN or ±∞, from its exponent bits (no branch, so a loop of these tests
+/// vectorises).
+#[inline(always)]
+fn non_finite(x: f64) -> bool {
+    const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+    x.to_bits() & EXPONENT == EXPONENT
+}
+
+/// Whether a component of `v` is NaN or ±∞ ([`non_finite`] of each, combined without branches).
+#[inline(always)]
+fn vector_non_finite<D: Dim>(v: D::Vector) -> bool {
+    let mut bad = false;
+    for c in 0..D::D {
+        bad |= non_finite(D::component(v, c));
+    }
+    bad
+}
+
+/// Whether an entry of `m` is NaN or ±∞.
+#[inline(always)]
+fn matrix_non_finite<D: Dim>(m: D::Matrix) -> bool {
+    let mut bad = false;
+    for c in 0..D::D {
+        for r in 0..D::D {
+            bad |= non_finite(D::matrix_get(m, r, c));
+        }
+    }
+    bad
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -203,6 +291,67 @@ mod tests {
         }
         assert!(max_or_nan(1.0, f64::NAN).is_nan() && max_or_nan(f64::NAN, 1.0).is_nan());
         assert_eq!(max_or_nan(1.0, 2.0), 2.0);
+    }
+
+    #[test]
+    fn one_pass_check_fails_where_the_separate_checks_fail_first() {
+        let ok_x = [DVec2::ZERO, DVec2::new(1.0, 0.0)];
+        let ok_v = [DVec2::ZERO; 2];
+        let ok_f = [DMat2::IDENTITY; 2];
+        let ok_a = [DVec2::ONE; 2];
+        let run = |x: &[DVec2], v: &[DVec2], f: &[DMat2], a: &[DVec2]| {
+            check_state::<D2>(x, v, ("F", f), &[("acceleration", a)], 4, 0.5)
+        };
+        assert_eq!(run(&ok_x, &ok_v, &ok_f, &ok_a), Ok(()));
+        assert_eq!(run(&ok_x, &ok_v, &[], &ok_a), Ok(()));
+        let bad_values = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY];
+        for bad in bad_values {
+            let mut a = ok_a;
+            a[1].y = bad;
+            assert_eq!(
+                run(&ok_x, &ok_v, &ok_f, &a),
+                Err(Error::NonFinite {
+                    field: "acceleration".into(),
+                    particle: 1,
+                    step: 4,
+                    time: 0.5
+                })
+            );
+            // A bad position comes before a bad acceleration of an earlier particle.
+            let (mut x, mut a) = (ok_x, ok_a);
+            x[1].x = bad;
+            a[0].x = bad;
+            let e = run(&x, &ok_v, &ok_f, &a).unwrap_err();
+            assert!(
+                matches!(e, Error::NonFinite { ref field, particle: 1, .. } if field == "position")
+            );
+            let mut f = ok_f;
+            f[0].x_axis.y = bad;
+            let e = run(&ok_x, &ok_v, &f, &ok_a).unwrap_err();
+            assert!(matches!(e, Error::NonFinite { ref field, particle: 0, .. } if field == "F"));
+        }
+        // Inverted and flattened particles, large but finite values.
+        let mut f = ok_f;
+        f[1] = DMat2::from_diagonal(DVec2::new(-1.0, 1.0));
+        assert!(matches!(
+            run(&ok_x, &ok_v, &f, &ok_a),
+            Err(Error::Inverted { particle: 1, .. })
+        ));
+        f[1] = DMat2::ZERO;
+        assert!(matches!(
+            run(&ok_x, &ok_v, &f, &ok_a),
+            Err(Error::Inverted { particle: 1, .. })
+        ));
+        let big = [DVec2::splat(f64::MAX), DVec2::splat(-f64::MAX)];
+        assert_eq!(run(&big, &big, &ok_f, &big), Ok(()));
+        // A state long enough to be split over the team.
+        let n = 5000;
+        let mut x = vec![DVec2::ZERO; n];
+        let f = vec![DMat2::IDENTITY; n];
+        assert_eq!(check_state::<D2>(&x, &x, ("F", &f), &[], 0, 0.0), Ok(()));
+        x[n - 7].y = f64::NAN;
+        let e = check_state::<D2>(&x.clone(), &x, ("F", &f), &[], 0, 0.0).unwrap_err();
+        assert!(matches!(e, Error::NonFinite { particle, .. } if particle == n - 7));
     }
 
     #[test]

@@ -410,23 +410,14 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     }
 
     fn check_finite(&self) -> Result<(), Error> {
-        diagnostics::check_finite_state::<D>(
+        diagnostics::check_state::<D>(
             &self.positions,
             &self.velocities,
             ("deformation gradient", &self.deformation),
+            &[("acceleration", &self.accelerations)],
             self.steps,
             self.time,
-        )?;
-        diagnostics::check_jacobians::<D>(&self.deformation, self.steps, self.time)?;
-        match first_non_finite::<D>(&self.accelerations) {
-            Some(i) => Err(Error::NonFinite {
-                field: "acceleration".into(),
-                particle: i,
-                step: self.steps,
-                time: self.time,
-            }),
-            None => Ok(()),
-        }
+        )
     }
 
     /// The numerical parameters.
