@@ -157,9 +157,10 @@ pub fn check_finite_state<D: Dim>(
 /// team: [`check_finite_state`] of `positions`, `velocities` and `matrices`, then
 /// [`check_jacobians`] of `matrices`, then the vectors of `more` (e.g. the accelerations)
 /// for non-finite entries; the first failure in that order is the error, as the separate calls
-/// would give. A healthy state costs one branch-free pass over the arrays (the separate checks
-/// were two passes on the team and a serial one, 11 % of the instructions of the MPS
-/// cantilever plate); only a failing state is searched again to name the entry.
+/// would give. A healthy state costs one pass on the team, array by array without branches;
+/// only a failing state is searched again to name the entry. The separate checks, two passes
+/// on the team and MPS's serial one over the accelerations, executed 11 % of the instructions
+/// of the MPS cantilever plate; this one 3 % (docs/performance.md).
 pub fn check_state<D: Dim>(
     positions: &[D::Vector],
     velocities: &[D::Vector],
@@ -177,17 +178,14 @@ pub fn check_state<D: Dim>(
             n,
             #[inline(always)]
             |rows| {
-                let mut bad = false;
-                for i in rows {
-                    bad |= vector_non_finite::<D>(x[i]) | vector_non_finite::<D>(v[i]);
-                    if let Some(&f) = m.get(i) {
-                        // A NaN, zero or negative Jacobian (check_jacobians).
-                        let j = D::det(f);
-                        bad |= matrix_non_finite::<D>(f) | j.is_nan() | (j <= 0.0);
-                    }
-                    for (_, a) in more {
-                        bad |= vector_non_finite::<D>(a[i]);
-                    }
+                // Array by array, each a loop without branches over its rows.
+                let mut bad =
+                    any_non_finite::<D>(&x[rows.clone()]) | any_non_finite::<D>(&v[rows.clone()]);
+                if !m.is_empty() {
+                    bad |= any_non_finite_or_inverted::<D>(&m[rows.clone()]);
+                }
+                for (_, a) in more {
+                    bad |= any_non_finite::<D>(&a[rows.clone()]);
                 }
                 bad
             },
@@ -239,6 +237,23 @@ fn matrix_non_finite<D: Dim>(m: D::Matrix) -> bool {
         }
     }
     bad
+}
+
+/// Whether a vector of `v` has a NaN or infinite component.
+#[inline(always)]
+fn any_non_finite<D: Dim>(v: &[D::Vector]) -> bool {
+    v.iter()
+        .fold(false, |bad, &v| bad | vector_non_finite::<D>(v))
+}
+
+/// Whether a matrix of `m` has a NaN or infinite entry, or a determinant that is NaN, zero or
+/// negative ([`check_jacobians`]).
+#[inline(always)]
+fn any_non_finite_or_inverted<D: Dim>(m: &[D::Matrix]) -> bool {
+    m.iter().fold(false, |bad, &m| {
+        let j = D::det(m);
+        bad | matrix_non_finite::<D>(m) | j.is_nan() | (j <= 0.0)
+    })
 }
 
 #[cfg(test)]
