@@ -283,6 +283,19 @@ fn threads_section(md: &mut String) {
          (results files of 16 scenes equal). In the full anchor run the monitor samples five \
          times less often per step, so this is worth about 1 % of its wall time on two \
          threads, more for shorter runs.\n\n\
+         **The unmet rows beside SPHinXsys on a loaded host (2026-12-03).** SPHinXsys \
+         9f33297 was built again as described below the anchor table (its outputs removed, \
+         the TBB threads from an environment variable; the patch kept outside the repository) \
+         and run interleaved with our build 5a46f7d, three rounds, whole-process wall time \
+         (`/usr/bin/time`). The host was loaded that day (both programs ran about 1.8× slower \
+         than on 2026-12-02 and the same binary's time varied by ±25 % between runs), so these \
+         are not the table's figures, only a check of where the rows stand; ratio = SPHinXsys / \
+         ours of the runs made one after the other: UL-ENOG plate, two threads: 38.6/19.8, \
+         38.3/18.7, 44.4/22.3 s, ratios 1.95, 2.06, 1.99 (the table: 2.02); twisting column, \
+         two threads: 19.9/7.7, 21.1/8.7, 19.1/6.5 s, ratios 2.59, 2.41, 2.93 (2.25); one \
+         thread: 34.4/13.0, 42.6/13.7, 41.3/19.0 s, ratios 2.65, 3.10, 2.17 (2.44). The UL \
+         plate on two threads stays at 2×; the column's rows are near or above 2.5× but within \
+         the noise of that day.\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
