@@ -389,10 +389,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             let local = sph_core::parallel::fold_chunks(
                 v.len(),
                 #[inline(always)]
-                |rows| {
-                    rows.map(|i| D::norm_squared(v[i]))
-                        .fold(0.0, diagnostics::max_or_nan)
-                },
+                |rows| diagnostics::max_norm_squared_or_nan::<D>(&v[rows]),
             )
             .into_iter()
             .fold(0.0, diagnostics::max_or_nan)
