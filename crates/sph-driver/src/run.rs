@@ -12,7 +12,7 @@ use sph_output::{create_writer_with, Backend, Compression, Dataset, ResultWriter
 use std::path::Path;
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 mod output;
 mod record;
@@ -345,8 +345,10 @@ pub fn drive<D: Dim>(
         let limit = (schedule.max_steps > 0).then_some((schedule.max_steps, end));
         let (failed, sampled) =
             steps_until(solver, target, eps, own_interrupt, limit, next_monitor);
-        ahead = sampled;
-        record.solver_seconds += t0.elapsed().as_secs_f64();
+        // The solver's time is the steps' only, as when the sample was taken out here.
+        let sampling = sampled.as_ref().map_or(Duration::ZERO, |s| s.1);
+        ahead = sampled.map(|s| s.0);
+        record.solver_seconds += t0.elapsed().saturating_sub(sampling).as_secs_f64();
         report(solver, &record, false);
         if let Some(e) = failed {
             record.failure = Some(e.to_string());
@@ -532,8 +534,8 @@ pub fn default_checkpoint_path(results_without_ext: &Path) -> std::path::PathBuf
 /// context switches per loop, dozens per step, most of the run's time in the kernel on a small
 /// body (measured: 22 voluntary context switches per step on the 2D plate).
 ///
-/// The monitor's sample is also taken there when the steps end at or after `next_monitor`
-/// without an error (the loop of `drive` would take it next, on the
+/// The monitor's sample is also taken there (returned with the time it took) when the steps
+/// end at or after `next_monitor` without an error (the loop of `drive` would take it next, on the
 /// calling thread): its loops then follow the steps' on the same thread while the team's
 /// helpers still spin, instead of waking parked helpers from another thread (on the twisting
 /// column with two threads the calling thread did three quarters of the disorder indicator).
@@ -544,7 +546,7 @@ fn steps_until<D: Dim>(
     interrupt: Option<&Interrupt>,
     limit: Option<(u64, f64)>,
     next_monitor: f64,
-) -> (Option<sph_core::Error>, Option<MonitorSample>) {
+) -> (Option<sph_core::Error>, Option<(MonitorSample, Duration)>) {
     let interrupted =
         || interrupt.is_some_and(|f| f.load(std::sync::atomic::Ordering::SeqCst) != 0);
     let steps = |solver: &mut dyn Solver<D>| {
@@ -575,8 +577,10 @@ fn steps_until<D: Dim>(
     };
     let mut run = move || {
         let failed = steps(&mut *solver);
-        let sample =
-            (failed.is_none() && solver.time() + eps >= next_monitor).then(|| sample(solver));
+        let sample = (failed.is_none() && solver.time() + eps >= next_monitor).then(|| {
+            let started = Instant::now();
+            (sample(solver), started.elapsed())
+        });
         (failed, sample)
     };
     if rayon::current_thread_index().is_some() {
