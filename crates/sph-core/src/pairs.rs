@@ -118,13 +118,15 @@ fn reversed<D: Dim>(p: PairKernel<D>) -> PairKernel<D> {
 /// The two halves of a symmetric self list (`j` is a neighbour of `i` exactly when `i` is a
 /// neighbour of `j`; rows in any order): the slots `(i, j ≥ i)`, whose kernel data are
 /// computed, and the slots `(i, j < i)`, which receive the reversed data of their mirror
-/// `(j, i)`. Built once per neighbour list in one pass over its pairs; [`Self::fill`] then
-/// does the work of [`fill_pair_kernels`] with about half the square roots, divisions and
-/// kernel evaluations, bit for bit the same result, in one parallel region: each task computes
-/// its block of rows and copies the mirrors that lie in that block; a slot `(i, j < i)` whose
-/// mirror lies in another task's block is computed too (the same bits as the copy), so no
-/// serial pass follows the region (blocks hold 512–1,023 particles: a fifth of the pairs of
-/// the UL 3D plate at H/dp 3 cross them, 5 % of the 2D plate's at H/dp 10).
+/// `(j, i)`. Built once per neighbour list, block by block in parallel (built serially for
+/// the whole list it was 3 % of the UL plate's time on one thread, and the other thread
+/// parked meanwhile); [`Self::fill`] then does the work of [`fill_pair_kernels`] with about
+/// half the square roots, divisions and kernel evaluations, bit for bit the same result, in
+/// one parallel region: each task computes its block of rows and copies the mirrors that lie
+/// in that block; a slot `(i, j < i)` whose mirror lies in another block is computed too (the
+/// same bits as the copy), so no serial pass follows the region. The blocks are those of
+/// [`crate::parallel::blocks`] (512–1,023 particles): a fifth of the pairs of the UL 3D plate
+/// at H/dp 3 cross them, 5 % of the 2D plate's at H/dp 10.
 ///
 /// # Example
 /// ```
@@ -145,106 +147,123 @@ fn reversed<D: Dim>(p: PairKernel<D>) -> PairKernel<D> {
 pub struct PairSymmetry {
     /// `list.num_pairs()` of the list it was built from.
     pairs: usize,
-    /// Row `i`'s computed slots are `upper[upper_start[i]..upper_start[i + 1]]`.
-    upper_start: Vec<usize>,
-    /// Slots `(i, j ≥ i)`, absolute, grouped by row.
-    upper: Vec<u32>,
-    /// Row `i`'s copies within its block are `local[local_start[i]..local_start[i + 1]]`.
-    local_start: Vec<usize>,
-    /// `(k, m)`: the slot `k` of `(i, j < i)` and the slot `m` of its mirror `(j, i)`, with `j`
-    /// in the same block of [`crate::parallel::gather_blocks`] as `i`.
-    local: Vec<(u32, u32)>,
-    /// Row `i`'s slots `(i, j < i)` with `j` in another block are
-    /// `cross[cross_start[i]..cross_start[i + 1]]` (computed, not copied).
-    cross_start: Vec<usize>,
-    /// Those slots, absolute, grouped by row.
-    cross: Vec<u32>,
+    /// `list.len()` of that list.
+    particles: usize,
+    /// One entry per block of [`crate::parallel::blocks`], in order.
+    blocks: Vec<BlockHalves>,
+}
+
+/// The halves of one block of rows; slots are counted from the block's first slot.
+#[derive(Clone, Debug, Default)]
+struct BlockHalves {
+    /// The block's rows.
+    rows: std::ops::Range<usize>,
+    /// Row `rows.start + r`'s computed slots are `computed[starts[r]..starts[r + 1]]`.
+    starts: Vec<u32>,
+    /// The computed slots, grouped by row: `(i, j ≥ i)`, and `(i, j < i)` with `j` in
+    /// another block.
+    computed: Vec<u32>,
+    /// `(k, m)`: the slot `k` of `(i, j < i)` with `j` in this block and the slot `m` of its
+    /// mirror `(j, i)`, a computed slot of row `j`.
+    copies: Vec<(u32, u32)>,
+}
+
+impl BlockHalves {
+    /// The halves of `rows` of `list`, or `None` if a pair of two particles of `rows` lacks
+    /// its mirror or has it twice. Three passes: the block's slots split into computed ones
+    /// and copies, row by row; the transpose of the computed slots `m = (j, i > j)` with `i`
+    /// in the block (each goes to row `i`'s bucket as `(j, m)`); the match of each bucket
+    /// entry with row `i`'s copy slot of `j`.
+    #[inline(always)]
+    fn new(list: &NeighborList, rows: std::ops::Range<usize>) -> Option<Self> {
+        let (indices, base) = (list.indices(), list.offsets()[rows.start]);
+        let (lo, hi) = (rows.start, rows.end);
+        let slots = list.offsets()[hi] - base;
+        let mut starts = Vec::with_capacity(rows.len() + 1);
+        let mut lower_start = Vec::with_capacity(rows.len() + 1);
+        let (mut computed, mut lower) = (vec![0u32; slots], vec![0u32; slots]);
+        starts.push(0);
+        lower_start.push(0);
+        // Without branches: whether `j < i` lies in the block (a copy) is a coin toss per pair.
+        let (mut c, mut l) = (0, 0);
+        for i in rows.clone() {
+            for k in list.range(i) {
+                let j = indices[k] as usize;
+                let copy = (lo..i).contains(&j);
+                computed[c] = (k - base) as u32;
+                lower[l] = (k - base) as u32;
+                c += usize::from(!copy);
+                l += usize::from(copy);
+            }
+            starts.push(c as u32);
+            lower_start.push(l);
+        }
+        computed.truncate(c);
+        lower.truncate(l);
+        let slot = &indices[base..];
+        let mut bucket = vec![(0u32, 0u32); l];
+        let mut fill = lower_start.clone();
+        for (r, j) in rows.clone().enumerate() {
+            for &m in &computed[starts[r] as usize..starts[r + 1] as usize] {
+                let i = slot[m as usize] as usize;
+                if i > j && i < hi {
+                    let at = fill[i - lo];
+                    if at >= lower_start[i - lo + 1] {
+                        return None;
+                    }
+                    bucket[at] = (j as u32, m);
+                    fill[i - lo] += 1;
+                }
+            }
+        }
+        // Row `i`'s copy slot of each `j < i` of the block while row `i` is matched. Each
+        // bucket entry consumes one; as many entries as copy slots, so a row with a doubled or
+        // a missing mirror meets a consumed entry, and a row that matches leaves none behind.
+        let mut slot_of = vec![u32::MAX; rows.len()];
+        let mut copies = Vec::with_capacity(l);
+        for r in 0..rows.len() {
+            if fill[r] != lower_start[r + 1] {
+                return None;
+            }
+            let own = &lower[lower_start[r]..lower_start[r + 1]];
+            for &k in own {
+                slot_of[slot[k as usize] as usize - lo] = k;
+            }
+            for &(j, m) in &bucket[lower_start[r]..lower_start[r + 1]] {
+                let k = std::mem::replace(&mut slot_of[j as usize - lo], u32::MAX);
+                if k == u32::MAX {
+                    return None;
+                }
+                copies.push((k, m));
+            }
+        }
+        Some(Self {
+            rows,
+            starts,
+            computed,
+            copies,
+        })
+    }
 }
 
 impl PairSymmetry {
-    /// The halves of `list`, or `None` if the list is not symmetric or has more than
-    /// `u32::MAX` pairs (then use [`fill_pair_kernels`]).
+    /// The halves of `list`, or `None` if the list is not symmetric within a block (a pair of
+    /// two particles of one block whose mirror is missing or doubled; a pair between blocks is
+    /// computed on both sides and needs no mirror) or has more than `u32::MAX` pairs (then use
+    /// [`fill_pair_kernels`]).
     pub fn new(list: &NeighborList) -> Option<Self> {
-        let n = list.len();
         let pairs = list.num_pairs();
         u32::try_from(pairs).ok()?;
-        let (offsets, indices) = (list.offsets(), list.indices());
-        let mut upper_start = Vec::with_capacity(n + 1);
-        let mut upper = Vec::with_capacity(pairs / 2 + n);
-        let mut lower_start = vec![0usize; n + 1];
-        upper_start.push(0);
-        for i in 0..n {
-            let mut below = 0;
-            for k in list.range(i) {
-                if indices[k] as usize >= i {
-                    upper.push(k as u32);
-                } else {
-                    below += 1;
-                }
-            }
-            upper_start.push(upper.len());
-            lower_start[i + 1] = lower_start[i] + below;
-        }
-        // The transpose of the upper halves: walking the rows `j` in ascending order, each
-        // upper slot `m = (j, i > j)` goes to row `i`'s bucket as `(j, m)`.
-        let mut bucket = vec![(u32::MAX, u32::MAX); lower_start[n]];
-        let mut fill = lower_start.clone();
-        for j in 0..n {
-            for &m in &upper[upper_start[j]..upper_start[j + 1]] {
-                let i = indices[m as usize] as usize;
-                if i > j {
-                    let slot = fill[i];
-                    if slot >= lower_start[i + 1] {
-                        return None;
-                    }
-                    bucket[slot] = (j as u32, m);
-                    fill[i] += 1;
-                }
-            }
-        }
-        // Match each bucket entry with row `i`'s slot of `j` (through `slot_of`, valid while
-        // row `i` is scanned; a stale or consumed entry fails the range check).
-        let mut slot_of = vec![u32::MAX; n];
-        let mut local_start = Vec::with_capacity(n + 1);
-        let mut local = Vec::with_capacity(lower_start[n]);
-        let mut cross_start = Vec::with_capacity(n + 1);
-        let mut cross = Vec::new();
-        local_start.push(0);
-        cross_start.push(0);
-        let block: Vec<usize> = (0..n).map(|i| crate::parallel::block_of(n, i)).collect();
-        for i in 0..n {
-            if fill[i] != lower_start[i + 1] {
-                return None;
-            }
-            for k in list.range(i) {
-                let j = indices[k] as usize;
-                if j < i {
-                    slot_of[j] = k as u32;
-                }
-            }
-            for &(j, m) in &bucket[lower_start[i]..lower_start[i + 1]] {
-                let j = j as usize;
-                let k = std::mem::replace(&mut slot_of[j], u32::MAX) as usize;
-                if !(offsets[i]..offsets[i + 1]).contains(&k) || indices[k] as usize != j {
-                    return None;
-                }
-                if block[j] == block[i] {
-                    local.push((k as u32, m));
-                } else {
-                    cross.push(k as u32);
-                }
-            }
-            local_start.push(local.len());
-            cross_start.push(cross.len());
-        }
+        let blocks = crate::parallel::blocks(list.len());
+        let halves = crate::parallel::map_tasks(
+            blocks.len(),
+            #[inline(always)]
+            |b| BlockHalves::new(list, blocks[b].clone()),
+        );
         Some(Self {
             pairs,
-            upper_start,
-            upper,
-            local_start,
-            local,
-            cross_start,
-            cross,
+            particles: list.len(),
+            blocks: halves.into_iter().collect::<Option<_>>()?,
         })
     }
 
@@ -265,34 +284,31 @@ impl PairSymmetry {
             self.pairs,
             "neighbour list of these halves"
         );
-        assert_eq!(
-            list.len() + 1,
-            self.upper_start.len(),
-            "particles of these halves"
-        );
+        assert_eq!(list.len(), self.particles, "particles of these halves");
         assert_eq!(out.len(), self.pairs, "pair buffer length");
-        let (offsets, indices) = (list.offsets(), list.indices());
+        let indices = list.indices();
         let x_j = list.values(positions);
         crate::parallel::gather_blocks(
-            offsets,
+            list.offsets(),
             out,
             #[inline(always)]
             |rows: std::ops::Range<usize>, block: &mut [PairKernel<D>]| {
-                let base = offsets[rows.start];
-                for i in rows.clone() {
+                let at = self.blocks.partition_point(|b| b.rows.end <= rows.start);
+                let halves = &self.blocks[at];
+                assert_eq!(halves.rows, rows, "blocks of these halves");
+                let slot = &indices[list.offsets()[rows.start]..];
+                for (r, i) in rows.enumerate() {
                     let xi = positions[i];
-                    let upper = &self.upper[self.upper_start[i]..self.upper_start[i + 1]];
-                    let cross = &self.cross[self.cross_start[i]..self.cross_start[i + 1]];
-                    for &k in upper.iter().chain(cross) {
-                        let j = indices[k as usize] as usize;
+                    let (from, to) = (halves.starts[r] as usize, halves.starts[r + 1] as usize);
+                    for &k in &halves.computed[from..to] {
+                        let j = slot[k as usize] as usize;
                         // SAFETY: `j` is an index of `list`, which made the view.
                         let x_j = unsafe { x_j.at(j) };
-                        block[k as usize - base] = pair_kernel::<D, K>(xi - x_j, kernel);
+                        block[k as usize] = pair_kernel::<D, K>(xi - x_j, kernel);
                     }
                 }
-                for &(k, m) in &self.local[self.local_start[rows.start]..self.local_start[rows.end]]
-                {
-                    block[k as usize - base] = reversed(block[m as usize - base]);
+                for &(k, m) in &halves.copies {
+                    block[k as usize] = reversed(block[m as usize]);
                 }
             },
         );
@@ -387,22 +403,41 @@ mod tests {
     }
 
     #[test]
-    fn asymmetric_lists_have_no_halves() {
+    fn asymmetric_lists_have_no_halves_and_symmetric_ones_fill_as_the_plain_fill() {
+        let x = [
+            D2::vector([0.0; 3]),
+            D2::vector([0.011, 0.002, 0.0]),
+            D2::vector([-0.004, 0.013, 0.0]),
+        ];
+        let kernel = WendlandC2::<D2>::from_spacing(0.01, 1.3).unwrap();
+        let build = |offsets: Vec<usize>, indices: Vec<u32>| {
+            let list = NeighborList::from_parts(offsets, indices).unwrap();
+            PairSymmetry::new(&list).map(|halves| {
+                let mut out = vec![
+                    PairKernel::<D2> {
+                        e: D2::zero(),
+                        r: -1.0,
+                        dw: 1.0
+                    };
+                    list.num_pairs()
+                ];
+                halves.fill(&x, &list, &kernel, &mut out);
+                assert_eq!(
+                    bits::<D2>(&out),
+                    bits::<D2>(&pair_kernels(&x, &list, &kernel))
+                );
+            })
+        };
         // 0 → 1 without 1 → 0.
-        let list = NeighborList::from_parts(vec![0, 1, 1], vec![1]).unwrap();
-        assert!(PairSymmetry::new(&list).is_none());
+        assert!(build(vec![0, 1, 1, 1], vec![1]).is_none());
         // 0 ↔ 1 and 0 → 2 only.
-        let list = NeighborList::from_parts(vec![0, 2, 3, 3], vec![1, 2, 0]).unwrap();
-        assert!(PairSymmetry::new(&list).is_none());
+        assert!(build(vec![0, 2, 3, 3], vec![1, 2, 0]).is_none());
         // 2 → 0 only (the lower half without its upper).
-        let list = NeighborList::from_parts(vec![0, 0, 0, 1], vec![0]).unwrap();
-        assert!(PairSymmetry::new(&list).is_none());
+        assert!(build(vec![0, 0, 0, 1], vec![0]).is_none());
         // A duplicated pair in both rows.
-        let list = NeighborList::from_parts(vec![0, 2, 4], vec![1, 1, 0, 0]).unwrap();
-        assert!(PairSymmetry::new(&list).is_none());
-        // Symmetric, self pairs included.
-        let list = NeighborList::from_parts(vec![0, 2, 4], vec![0, 1, 1, 0]).unwrap();
-        assert!(PairSymmetry::new(&list).is_some());
+        assert!(build(vec![0, 2, 4, 4], vec![1, 1, 0, 0]).is_none());
+        // Symmetric, self pairs included, rows in any order.
+        assert!(build(vec![0, 3, 5, 7], vec![2, 0, 1, 1, 0, 0, 2]).is_some());
     }
 
     #[test]

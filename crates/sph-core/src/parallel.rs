@@ -351,8 +351,8 @@ pub fn gather_slices<T: Send>(
 
 /// `f(rows, block)` for the blocks of particles [`gather_slices`] hands to one task each, where
 /// `block = &mut out[offsets[rows.start]..offsets[rows.end]]`: for work that needs a task's
-/// rows together. The blocks depend only on the particle count ([`block_of`] tells which block
-/// a particle is in), never on the thread count.
+/// rows together. The blocks depend only on the particle count ([`blocks`] names them),
+/// never on the thread count.
 ///
 /// # Panics
 /// If `out.len() != offsets[last] - offsets[0]`.
@@ -369,19 +369,26 @@ pub fn gather_blocks<T: Send>(
     split_blocks(offsets, out, &f);
 }
 
-/// The first particle of the block of [`gather_blocks`] over `n` particles that holds particle
-/// `i` (`i < n`).
-pub fn block_of(n: usize, i: usize) -> usize {
-    let (mut start, mut end) = (0, n);
-    while worth_splitting(end - start) {
-        let mid = start + (end - start) / 2;
-        if i < mid {
-            end = mid;
+/// The blocks of [`gather_blocks`] over `n` particles, in order: `0..n` halved until a part
+/// is too small to split ([`worth_splitting`]). They depend only on `n`, never on the thread
+/// count, so work cut along them (e.g. [`crate::pairs::PairSymmetry`]) is the same on every
+/// thread count.
+pub fn blocks(n: usize) -> Vec<std::ops::Range<usize>> {
+    fn halve(rows: std::ops::Range<usize>, out: &mut Vec<std::ops::Range<usize>>) {
+        if worth_splitting(rows.len()) {
+            // The same halving as `split_blocks`.
+            let mid = rows.start + rows.len() / 2;
+            halve(rows.start..mid, out);
+            halve(mid..rows.end, out);
         } else {
-            start = mid;
+            out.push(rows);
         }
     }
-    start
+    let mut out = Vec::new();
+    if n > 0 {
+        halve(0..n, &mut out);
+    }
+    out
 }
 
 /// The blocks of [`gather_blocks`] as tasks of the team: the halving tree is walked to the depth
@@ -408,7 +415,7 @@ fn split_blocks<T: Send>(
                 }
                 break;
             }
-            // The same halving as `block_of`.
+            // The same halving as `blocks`.
             let mid = start + (end - start) / 2;
             if (k >> bit) & 1 == 0 {
                 end = mid;
@@ -450,18 +457,26 @@ mod tests {
     }
 
     #[test]
-    fn blocks_are_those_block_of_names() {
-        for n in [1usize, 1023, 1024, 5000, 70_001] {
+    fn gather_blocks_runs_the_blocks_that_blocks_names() {
+        for n in [1usize, 1023, 1024, 3000, 5000, 70_001] {
             let offsets: Vec<usize> = (0..=n).collect();
             let mut out = vec![usize::MAX; n];
             gather_blocks(&offsets, &mut out, |rows, block: &mut [usize]| {
                 assert_eq!(block.len(), rows.len());
                 block.iter_mut().for_each(|b| *b = rows.start);
             });
-            for (i, &b) in out.iter().enumerate() {
-                assert_eq!(b, block_of(n, i), "particle {i} of {n}");
+            let named = blocks(n);
+            assert_eq!(named.first().map(|b| b.start), Some(0));
+            assert_eq!(named.last().map(|b| b.end), Some(n));
+            for pair in named.windows(2) {
+                assert_eq!(pair[0].end, pair[1].start, "{n} particles");
+            }
+            for b in &named {
+                assert!(n < 2 * MIN_PARTICLES_PER_TASK || b.len() >= MIN_PARTICLES_PER_TASK);
+                assert!(out[b.clone()].iter().all(|&s| s == b.start), "{b:?} of {n}");
             }
         }
+        assert!(blocks(0).is_empty());
     }
 
     #[test]
