@@ -254,11 +254,10 @@ impl PairSymmetry {
     pub fn new(list: &NeighborList) -> Option<Self> {
         let pairs = list.num_pairs();
         u32::try_from(pairs).ok()?;
-        let blocks = crate::parallel::blocks(list.len());
-        let halves = crate::parallel::map_tasks(
-            blocks.len(),
+        let halves = crate::parallel::map_blocks(
+            list.len(),
             #[inline(always)]
-            |b| BlockHalves::new(list, blocks[b].clone()),
+            |rows| BlockHalves::new(list, rows),
         );
         Some(Self {
             pairs,

@@ -391,6 +391,22 @@ pub fn blocks(n: usize) -> Vec<std::ops::Range<usize>> {
     out
 }
 
+/// `[f(rows) for rows in blocks(n)]`: one task per block of [`blocks`] on the [`crate::team`],
+/// the results in block order. A sum cut this way (each block summed in particle order, the
+/// blocks' sums added in block order) is the same for every thread count. `f` should be an
+/// `#[inline(always)]` closure (see [`crate::wide::dispatch`]).
+pub fn map_blocks<R: Send>(
+    n: usize,
+    f: impl Fn(std::ops::Range<usize>) -> R + Sync + Send,
+) -> Vec<R> {
+    let blocks = blocks(n);
+    map_tasks(
+        blocks.len(),
+        #[inline(always)]
+        |b| f(blocks[b].clone()),
+    )
+}
+
 /// The blocks of [`gather_blocks`] as tasks of the team: the halving tree is walked to the depth
 /// of its largest leaf, and task `k` follows the bits of `k` down it; a leaf reached above
 /// that depth belongs to the task whose remaining bits are zero.
