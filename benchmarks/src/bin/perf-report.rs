@@ -300,6 +300,44 @@ fn threads_section(md: &mut String) {
          thread: 34.4/13.0, 42.6/13.7, 41.3/19.0 s, ratios 2.65, 3.10, 2.17 (2.44). The UL \
          plate on two threads stays at 2×; the column's rows are near or above 2.5× but within \
          the noise of that day.\n\n\
+         **The UL plate's serial gaps on two threads (2026-12-03).** Per-thread profiles \
+         (`perf record -e cpu-clock`, the UL-ENOG anchor command with `--set end_time=0.1 \
+         --threads 2`; shares of all samples, stepping thread / helper) at the start: refresh \
+         12.4 / 9.6 %, force gather 9.9 / 8.1 %, the helper spinning 8.8 %, the stepping \
+         thread waiting in `run_tasks` 8.0 % and in `sched_yield` 5.4 %. The halves of each \
+         new neighbour list (`PairSymmetry::new`, 3 % of the one-thread time, about 300 µs per \
+         rebuild) ran on the stepping thread, long enough for the helper to park (its spin is \
+         200 µs): counted in a throw-away build of the team, 654–839 parks and 1,724–2,162 \
+         tasks taken over by the stepping thread per run (of about 34,000), because the woken \
+         helper came late. `PairSymmetry::new` now builds its halves block by block on the \
+         team (the blocks of `gather_blocks`, named by `parallel::blocks`; three passes per \
+         block, the split into computed and copied slots without branches): 232–356 parks and \
+         436–730 tasks taken over, `sched_yield` 0.1 %, waiting in `run_tasks` 3.3 %; timed \
+         in one process against the old build of the whole list on pairs of the plate's size \
+         and the column's, one thread: 0.93× and 0.50× the time. The stepping thread still \
+         did more of each loop (refresh 12.4 / 9.8 %, force gather 11.1 / 9.3 %) and the \
+         helper spun 13.7 %: \
+         the energy budget's work of the step (`step_works`, five dot products per particle, \
+         every acoustic step) was a serial loop on the stepping thread. It is now summed per \
+         block on the \
+         team, each block in particle order and the blocks in order, so the same bits for \
+         every thread count (tested); the budget's sums of bodies of 1,024 particles or more \
+         change at round-off (the plate's `shear_work_final` 0.6484969759539243 → \
+         0.6484969759539246; every particle dataset of the 16 scenes equal). After both: the \
+         two threads do equal shares of every loop (refresh 11.5 / 11.3 %, force gather \
+         11.4 / 11.5 %, rate gather 7.8 / 7.8 %), the helper spins 8.2 % and the stepping \
+         thread waits in `run_tasks` \
+         5.1 %. Wall time to t = 0.1 s, the builds interleaved (host loaded, ±15 % between \
+         runs): median ratio of the rounds 0.962 (14 rounds) for the halves, then 0.967 (12) \
+         for the work sums. Beside SPHinXsys in one window (the full anchor run, two threads, \
+         three rounds, each round SPHinXsys, the build before and the build after; the host \
+         loaded again, SPHinXsys 29.5–43.4 s against 21.4 s quiet): SPHinXsys / ours 2.07, \
+         1.68, 2.04 before and 2.18, 1.89, 2.40 after (ours 16.6 / 17.5 / 21.3 s → 15.8 / \
+         15.6 / 18.1 s). The row stays below 2.5× on this host. A kernel form without the \
+         refresh's division was also timed (storing `x_i − x_j` and `W′/r` in closed form: \
+         0.77× the refresh's time in 2D, 0.90× in 3D, same process, alternating), but the \
+         Riemann solver and the Laplacian need `e_ij` and `1/r` in the gathers, which would \
+         then divide once per directed pair instead of once per unordered pair; not pursued.\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \

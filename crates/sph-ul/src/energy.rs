@@ -80,8 +80,8 @@ pub struct AccumulatedWork {
 /// constraints and `v` the velocities before the kick. Summing it over all parts gives the
 /// change of the kinetic energy exactly (eq 24: `v^{n+1} = v^n + Δt a`). Summed per block of
 /// [`sph_core::parallel::blocks`] on the team, each block in particle order and the blocks'
-/// sums in block order: the same bits for every thread count (serial, the sum was 4 % of the
-/// UL plate's time on two threads, with the second thread waiting).
+/// sums in block order: the same bits for every thread count (as a serial loop it took about
+/// 4 % of the stepping thread's time on the UL plate with two threads, the helper waiting).
 pub fn step_works<D: Dim, const K: usize>(
     parts: impl Fn(usize) -> [D::Vector; K] + Sync + Send,
     a: &[D::Vector],
