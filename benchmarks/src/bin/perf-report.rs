@@ -337,7 +337,14 @@ fn threads_section(md: &mut String) {
          refresh's division was also timed (storing `x_i − x_j` and `W′/r` in closed form: \
          0.77× the refresh's time in 2D, 0.90× in 3D, same process, alternating), but the \
          Riemann solver and the Laplacian need `e_ij` and `1/r` in the gathers, which would \
-         then divide once per directed pair instead of once per unordered pair; not pursued.\n\n\
+         then divide once per directed pair instead of once per unordered pair; not pursued. \
+         One thread executes fewer instructions too (the table below, build f638f66 against \
+         e28014b): UL-ENOG plate 4.8452·10⁹ → 4.6559·10⁹ (−3.9 %: the work sums now in the \
+         AVX2 copy, the halves' build without the branchy transpose), TL plate and column \
+         unchanged. Tasks of at least 256 particles instead of 512 (four blocks and six tasks \
+         on the plate, so that a helper whose core the host takes away holds back less) were \
+         timed the same way: UL plate two threads 0.949 (10 rounds) and then 1.027 (16 \
+         rounds), column 0.89 (6 rounds, 0.78–1.21): inside the host's noise, not changed.\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
