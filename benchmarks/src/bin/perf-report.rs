@@ -333,7 +333,13 @@ fn threads_section(md: &mut String) {
          three rounds, each round SPHinXsys, the build before and the build after; the host \
          loaded again, SPHinXsys 29.5–43.4 s against 21.4 s quiet): SPHinXsys / ours 2.07, \
          1.68, 2.04 before and 2.18, 1.89, 2.40 after (ours 16.6 / 17.5 / 21.3 s → 15.8 / \
-         15.6 / 18.1 s). The row stays below 2.5× on this host. A kernel form without the \
+         15.6 / 18.1 s). The row stays below 2.5× on this host. The twisting column in the \
+         same way with the build after (SPHinXsys 22.8–26.4 s on two threads and 43.5–45.1 s \
+         on one, against 10.6 and 20.8 s quiet): two threads 22.85/10.39, 22.83/11.72, \
+         26.41/9.70 s, ratios 2.20, 1.95, 2.72; one thread 43.49/15.55, 45.14/17.32, \
+         44.38/14.56 s, ratios 2.80, 2.61, 3.05. On the loaded host the second thread helps \
+         our run less than SPHinXsys's (our user time grows from 14–17 s to 18–20 s, theirs \
+         stays at 42–45 s), as a helper that spins loses its core to the host more often. A kernel form without the \
          refresh's division was also timed (storing `x_i − x_j` and `W′/r` in closed form: \
          0.77× the refresh's time in 2D, 0.90× in 3D, same process, alternating), but the \
          Riemann solver and the Laplacian need `e_ij` and `1/r` in the gathers, which would \
