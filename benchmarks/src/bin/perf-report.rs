@@ -339,7 +339,8 @@ fn threads_section(md: &mut String) {
          26.41/9.70 s, ratios 2.20, 1.95, 2.72; one thread 43.49/15.55, 45.14/17.32, \
          44.38/14.56 s, ratios 2.80, 2.61, 3.05. On the loaded host the second thread helps \
          our run less than SPHinXsys's (our user time grows from 14–17 s to 18–20 s, theirs \
-         stays at 42–45 s), as a helper that spins loses its core to the host more often. A kernel form without the \
+         stays at 42–45 s; the helper's spinning counts as user time, but why the loaded \
+         host costs the team more than TBB's workers is not measured). A kernel form without the \
          refresh's division was also timed (storing `x_i − x_j` and `W′/r` in closed form: \
          0.77× the refresh's time in 2D, 0.90× in 3D, same process, alternating), but the \
          Riemann solver and the Laplacian need `e_ij` and `1/r` in the gathers, which would \
