@@ -296,6 +296,9 @@ impl PairSymmetry {
                 let halves = &self.blocks[at];
                 assert_eq!(halves.rows, rows, "blocks of these halves");
                 let slot = &indices[list.offsets()[rows.start]..];
+                // Local copies: the compiler then keeps the kernel's constants and the view's
+                // base in registers instead of reloading them for every pair.
+                let (kernel, x_j) = (*kernel, x_j);
                 for (r, i) in rows.enumerate() {
                     let xi = positions[i];
                     let (from, to) = (halves.starts[r] as usize, halves.starts[r + 1] as usize);
@@ -303,7 +306,7 @@ impl PairSymmetry {
                         let j = slot[k as usize] as usize;
                         // SAFETY: `j` is an index of `list`, which made the view.
                         let x_j = unsafe { x_j.at(j) };
-                        block[k as usize] = pair_kernel::<D, K>(xi - x_j, kernel);
+                        block[k as usize] = pair_kernel::<D, K>(xi - x_j, &kernel);
                     }
                 }
                 for &(k, m) in &halves.copies {
