@@ -348,7 +348,11 @@ fn threads_section(md: &mut String) {
          One thread executes fewer instructions too (the table below, build f638f66 against \
          e28014b): UL-ENOG plate 4.8452·10⁹ → 4.6559·10⁹ (−3.9 %: the work sums now in the \
          AVX2 copy, the halves' build without the branchy transpose), TL plate and column \
-         unchanged. Tasks of at least 256 particles instead of 512 (four blocks and six tasks \
+         unchanged. The refresh then reloaded the kernel's constants and the positions' base \
+         for every pair (the closure's captures, read through memory); copied into locals they \
+         stay in registers, the same operations in the same order (16 scenes equal): UL-ENOG \
+         plate 4.6559·10⁹ → 4.5320·10⁹ (−2.7 %, build 0bc9343; −6.5 % against e28014b). \
+         Tasks of at least 256 particles instead of 512 (four blocks and six tasks \
          on the plate, so that a helper whose core the host takes away holds back less) were \
          timed the same way: UL plate two threads 0.949 (10 rounds) and then 1.027 (16 \
          rounds), column 0.89 (6 rounds, 0.78–1.21): inside the host's noise, not changed.\n\n\
