@@ -381,6 +381,7 @@ fn every_case_template_reads_back_as_its_config() {
     ]);
     assert_eq!(code, 2);
     assert!(err.contains("bad.toml:3:") && err.contains("nu"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -401,4 +402,5 @@ fn a_scene_file_runs_and_refuses_case_options() {
         err.contains("--set does not apply to a scene file"),
         "{err}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
