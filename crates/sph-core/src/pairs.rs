@@ -9,6 +9,7 @@
 use crate::dim::Dim;
 use crate::kernel::Kernel;
 use crate::neighbor::NeighborList;
+use crate::parallel::Columns;
 
 /// Kernel data of one directed pair `(i, j)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -278,6 +279,88 @@ impl PairSymmetry {
         kernel: &K,
         out: &mut [PairKernel<D>],
     ) {
+        self.fill_blocks(
+            positions,
+            list,
+            kernel,
+            out,
+            #[inline(always)]
+            |_, _| {},
+        );
+    }
+
+    /// [`Self::fill`], and in the same task, as soon as a block of rows is filled,
+    /// `then(rows, pairs, part)`: `pairs` the block's pair data (row `i`'s slots start at
+    /// `list.offsets()[i] − list.offsets()[rows.start]`), `part` the block's rows of `columns`
+    /// ([`Columns`]). A block's pair data are complete once its own task has filled them (a
+    /// mirror is copied only within its block), so a gather that reads its rows' pair data right
+    /// after the refresh (the UL force gather) runs in the refresh's parallel region: one
+    /// hand-off fewer, and each block's pairs are read while they are still in the cache. The
+    /// blocks are those of [`crate::parallel::blocks`]; `then` should be an `#[inline(always)]`
+    /// closure (see [`crate::wide::dispatch`]).
+    ///
+    /// # Panics
+    /// As [`Self::fill`]; if a column is neither `list.len()` long nor empty.
+    ///
+    /// # Example
+    /// ```
+    /// use sph_core::dim::{Dim, D2};
+    /// use sph_core::kernel::{Kernel, WendlandC2};
+    /// use sph_core::neighbor::CellGrid;
+    /// use sph_core::pairs::{pair_kernels, PairSymmetry};
+    ///
+    /// let x: Vec<_> = (0..50).map(|k| D2::vector([(k % 7) as f64 * 0.1, (k / 7) as f64 * 0.1, 0.0])).collect();
+    /// let kernel = WendlandC2::<D2>::from_spacing(0.1, 1.3).unwrap();
+    /// let list = CellGrid::<D2>::build(&x, kernel.cutoff()).unwrap().neighbor_list(&x, kernel.cutoff()).unwrap();
+    /// let halves = PairSymmetry::new(&list).unwrap();
+    /// let mut pairs = pair_kernels::<D2, _>(&x, &list, &kernel);
+    /// // The kernel-gradient sum of each particle, in the refresh's parallel region.
+    /// let mut grad_sum = vec![D2::zero(); x.len()];
+    /// let offsets = list.offsets();
+    /// halves.fill_then(&x, &list, &kernel, &mut pairs, (&mut grad_sum[..],), |rows, block, (g,)| {
+    ///     let base = offsets[rows.start];
+    ///     for (k, i) in rows.enumerate() {
+    ///         g[k] = block[offsets[i] - base..offsets[i + 1] - base].iter().map(|p| p.grad()).sum();
+    ///     }
+    /// });
+    /// assert_eq!(grad_sum[3], pairs[list.range(3)].iter().map(|p| p.grad()).sum());
+    /// ```
+    pub fn fill_then<'a, D: Dim, K: Kernel, C: Columns<'a>>(
+        &self,
+        positions: &[D::Vector],
+        list: &NeighborList,
+        kernel: &K,
+        out: &mut [PairKernel<D>],
+        columns: C,
+        then: impl Fn(std::ops::Range<usize>, &[PairKernel<D>], C::Part) + Sync,
+    ) {
+        let shared = columns.share(list.len());
+        self.fill_blocks(
+            positions,
+            list,
+            kernel,
+            out,
+            #[inline(always)]
+            |rows, block| {
+                // SAFETY: the blocks are disjoint row ranges within `0..list.len()`, each
+                // handed to one task.
+                let part = unsafe { C::part(&shared, rows.clone()) };
+                then(rows, block, part)
+            },
+        );
+    }
+
+    /// The fill of [`Self::fill`], calling `after(rows, block)` in each block's task once the
+    /// block is filled.
+    #[inline(always)]
+    fn fill_blocks<D: Dim, K: Kernel>(
+        &self,
+        positions: &[D::Vector],
+        list: &NeighborList,
+        kernel: &K,
+        out: &mut [PairKernel<D>],
+        after: impl Fn(std::ops::Range<usize>, &[PairKernel<D>]) + Sync,
+    ) {
         assert_eq!(
             list.num_pairs(),
             self.pairs,
@@ -299,7 +382,7 @@ impl PairSymmetry {
                 // Local copies: the compiler then keeps the kernel's constants and the view's
                 // base in registers instead of reloading them for every pair.
                 let (kernel, x_j) = (*kernel, x_j);
-                for (r, i) in rows.enumerate() {
+                for (r, i) in rows.clone().enumerate() {
                     let xi = positions[i];
                     let (from, to) = (halves.starts[r] as usize, halves.starts[r + 1] as usize);
                     for &k in &halves.computed[from..to] {
@@ -312,6 +395,7 @@ impl PairSymmetry {
                 for &(k, m) in &halves.copies {
                     block[k as usize] = reversed(block[m as usize]);
                 }
+                after(rows, block);
             },
         );
     }
@@ -371,7 +455,8 @@ mod tests {
         ];
         for list in &lists {
             let halves = PairSymmetry::new(list).expect("symmetric");
-            let expected = bits::<D>(&pair_kernels(&x, list, &kernel));
+            let expected_pairs = pair_kernels(&x, list, &kernel);
+            let expected = bits::<D>(&expected_pairs);
             for threads in [1, 2, 3] {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
@@ -392,6 +477,35 @@ mod tests {
                     "{} particles, {threads} threads",
                     x.len()
                 );
+                // The same fill with a gather of each block's rows in its task: every row
+                // seen once, with its complete pair data.
+                out.iter_mut().for_each(|p| p.r = -1.0);
+                let offsets = list.offsets();
+                let mut seen = vec![0usize; x.len()];
+                let mut radii = vec![0.0; x.len()];
+                pool.install(|| {
+                    halves.fill_then(
+                        &x,
+                        list,
+                        &kernel,
+                        &mut out,
+                        (&mut seen[..], &mut radii[..]),
+                        |rows, block, (seen, radii)| {
+                            let base = offsets[rows.start];
+                            for (k, i) in rows.enumerate() {
+                                seen[k] += 1;
+                                let row = &block[offsets[i] - base..offsets[i + 1] - base];
+                                radii[k] = row.iter().map(|p| p.r).sum();
+                            }
+                        },
+                    )
+                });
+                assert_eq!(bits::<D>(&out), expected, "fill_then, {threads} threads");
+                assert!(seen.iter().all(|&s| s == 1), "{threads} threads");
+                for (i, &sum) in radii.iter().enumerate() {
+                    let want: f64 = expected_pairs[list.range(i)].iter().map(|p| p.r).sum();
+                    assert_eq!(sum.to_bits(), want.to_bits(), "row {i}, {threads} threads");
+                }
             }
         }
     }

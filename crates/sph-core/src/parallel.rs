@@ -407,6 +407,28 @@ pub fn map_blocks<R: Send>(
     )
 }
 
+/// [`map_blocks`] with each block's rows of `columns` ([`Columns`]): `[f(rows, part) for rows
+/// in blocks(n)]`, one task per block, the results in block order. For a pass that sums per
+/// block (the same bits for every thread count, as with [`map_blocks`]) and updates its rows in
+/// the same task.
+pub fn map_block_columns<'a, C: Columns<'a>, R: Send>(
+    n: usize,
+    columns: C,
+    f: impl Fn(std::ops::Range<usize>, C::Part) -> R + Sync + Send,
+) -> Vec<R> {
+    let shared = columns.share(n);
+    let blocks = blocks(n);
+    map_tasks(
+        blocks.len(),
+        #[inline(always)]
+        |b| {
+            let rows = blocks[b].clone();
+            // SAFETY: the blocks are disjoint ranges within `0..n`, one per task.
+            f(rows.clone(), unsafe { C::part(&shared, rows) })
+        },
+    )
+}
+
 /// The blocks of [`gather_blocks`] as tasks of the team: the halving tree is walked to the depth
 /// of its largest leaf, and task `k` follows the bits of `k` down it; a leaf reached above
 /// that depth belongs to the task whose remaining bits are zero.

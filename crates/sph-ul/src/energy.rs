@@ -19,7 +19,7 @@
 //!
 //! **Accumulated work** ([`AccumulatedWork`]), per acoustic step and exact for the position-Verlet
 //! step (eq 23–25): with `v_mid = v^n + ½ Δt a = ½(v^n + v^{n+1})`, the kinetic energy changes by
-//! `Σ m a·v_mid Δt`, and each force part contributes `Σ m a_part·v_mid Δt` ([`step_works`]).
+//! `Σ m a·v_mid Δt`, and each force part contributes `Σ m a_part·v_mid Δt` ([`kick_with_works`]).
 //! Accumulated are the parts no stored energy holds: the dissipative part
 //! `−½ β ρ0 c0 u_ij` of the Riemann interface pressure (eq 12), OAS's artificial stress, loads,
 //! the pressure jump's change of the volumetric energy;
@@ -54,7 +54,7 @@ impl Energy {
 }
 
 /// Work done on the particles since `t = 0` by force parts, accumulated per acoustic step with
-/// [`step_works`].
+/// [`kick_with_works`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct AccumulatedWork {
     /// The dissipative part of the Riemann interface pressure, `−½ β ρ0 c0 u_ij` (eq 12):
@@ -74,35 +74,41 @@ pub struct AccumulatedWork {
     pub density_jump: f64,
 }
 
-/// The work of `K` force parts (`parts(i)` = their accelerations of particle `i`) over an
-/// acoustic step of the position-Verlet scheme, in one pass:
-/// `W_k = Σ_i m_i a_k,i · (v_i + ½ Δt a_i) Δt`, with `a` the total acceleration after
-/// constraints and `v` the velocities before the kick. Summing it over all parts gives the
-/// change of the kinetic energy exactly (eq 24: `v^{n+1} = v^n + Δt a`). Summed per block of
+/// The kick of eq 24, `v_i += Δt a_i`, and in the same pass the work of `K` force parts
+/// (`parts(i)` = their accelerations of particle `i`) over the acoustic step of the
+/// position-Verlet scheme: `W_k = Σ_i m_i a_k,i · (v_i + ½ Δt a_i) Δt`, with `a` the total
+/// acceleration after constraints and `v` the velocities before the kick. Summing it over all
+/// parts gives the change of the kinetic energy exactly. Summed per block of
 /// [`sph_core::parallel::blocks`] on the team, each block in particle order and the blocks'
 /// sums in block order: the same bits for every thread count (as a serial loop it took about
-/// 4 % of the stepping thread's time on the UL plate with two threads, the helper waiting).
-pub fn step_works<D: Dim, const K: usize>(
+/// 4 % of the stepping thread's time on the UL plate with two threads, the helper waiting);
+/// each block kicks its particles once its sum is taken (the kick and the sums were two
+/// parallel regions of every acoustic step before).
+pub fn kick_with_works<D: Dim, const K: usize>(
     parts: impl Fn(usize) -> [D::Vector; K] + Sync + Send,
     a: &[D::Vector],
-    v: &[D::Vector],
+    v: &mut [D::Vector],
     masses: &[f64],
     dt: f64,
 ) -> [f64; K] {
     assert!(
         v.len() == a.len() && masses.len() == a.len(),
-        "step_works lengths"
+        "kick_with_works lengths"
     );
-    sph_core::parallel::map_blocks(
+    sph_core::parallel::map_block_columns(
         a.len(),
+        (v,),
         #[inline(always)]
-        |rows| {
+        |rows, (v,)| {
             let mut w = [0.0; K];
-            for i in rows {
-                let mv = (v[i] + a[i] * (0.5 * dt)) * (masses[i] * dt);
+            for (k, i) in rows.clone().enumerate() {
+                let mv = (v[k] + a[i] * (0.5 * dt)) * (masses[i] * dt);
                 for (wk, p) in w.iter_mut().zip(parts(i)) {
                     *wk += D::dot(p, mv);
                 }
+            }
+            for (k, i) in rows.enumerate() {
+                v[k] += a[i] * dt;
             }
             w
         },
@@ -170,13 +176,15 @@ mod tests {
         let (m, dt) = ([2.0, 3.0], 0.1);
         let ke = |v: &[DVec2]| 0.5 * (m[0] * v[0].length_squared() + m[1] * v[1].length_squared());
         let v1: Vec<DVec2> = v.iter().zip(&a).map(|(v, a)| *v + *a * dt).collect();
-        let [w1, w2] = step_works::<D2, 2>(|i| [p1[i], p2[i]], &a, &v, &m, dt);
+        let mut kicked = v;
+        let [w1, w2] = kick_with_works::<D2, 2>(|i| [p1[i], p2[i]], &a, &mut kicked, &m, dt);
+        assert_eq!(kicked.to_vec(), v1);
         let w = w1 + w2;
         assert!((ke(&v1) - ke(&v) - w).abs() < 1e-14 * ke(&v), "{w}");
     }
 
     #[test]
-    fn step_works_are_the_same_bits_on_every_thread_count_and_the_block_sums_of_the_serial_sum() {
+    fn works_are_the_same_bits_on_every_thread_count_and_the_block_sums_of_the_serial_sum() {
         // 5,000 particles: several blocks, each summed in particle order.
         let n = 5000;
         let f = |i: usize, k: f64| DVec2::new((i as f64 * k).sin(), (i as f64 * 0.7 + k).cos());
@@ -197,8 +205,14 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            let [w] = pool.install(|| step_works::<D2, 1>(|i| [p[i]], &a, &v, &m, dt));
+            let mut kicked = v.clone();
+            let [w] =
+                pool.install(|| kick_with_works::<D2, 1>(|i| [p[i]], &a, &mut kicked, &m, dt));
             assert_eq!(w.to_bits(), expected.to_bits(), "{threads} threads");
+            assert!(kicked
+                .iter()
+                .zip(v.iter().zip(&a))
+                .all(|(k, (v, a))| *k == *v + *a * dt));
         }
     }
 }

@@ -31,7 +31,7 @@
 
 use crate::artificial_stress::{self, ArtificialShear};
 use crate::contact::Contact;
-use crate::energy::{step_works, ul_budget, AccumulatedWork, Energy};
+use crate::energy::{kick_with_works, ul_budget, AccumulatedWork, Energy};
 use crate::nested::{jaumann_rate, shear_energy, velocity_gradient_pair, NestedShear};
 use crate::non_nested::{
     conservative_laplacian_pair, default_zeta, non_conservative_laplacian_pair,

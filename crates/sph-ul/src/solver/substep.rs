@@ -6,6 +6,15 @@
 use super::*;
 use sph_core::NeighbourValues;
 
+/// The force gather's outputs (accelerations, the budget's parts: empty without the budget),
+/// the pair data it reads, and whether it refreshes them first.
+type ForceBuffers<'a, D> = (
+    &'a mut [<D as Dim>::Vector],
+    &'a mut [[<D as Dim>::Vector; 2]],
+    &'a mut [PairKernel<D>],
+    bool,
+);
+
 /// The neighbours' velocities, volumes and pressures the force gather reads.
 type ForceNeighbours<'a, D> = (
     NeighbourValues<'a, <D as Dim>::Vector>,
@@ -323,14 +332,16 @@ impl<D: Dim> UlSolver<D> {
 
     /// Internal accelerations of the current state (pressure from `ρ`; the variant's shear
     /// term) into `self.accelerations`: step 2 of the module docs without loads or
-    /// constraints.
-    fn compute_forces(&mut self) {
+    /// constraints. With `refresh`, the kernel data of the current positions first (the
+    /// sub-step refresh), in the force gather's parallel region when the list has its halves
+    /// ([`PairSymmetry::fill_then`]).
+    fn compute_forces(&mut self, refresh: bool) {
         let mut out = std::mem::take(&mut self.accelerations);
         let mut parts = std::mem::take(&mut self.budget_parts);
+        let mut pairs = std::mem::take(&mut self.pairs);
+        let forces = (&mut out[..], &mut parts[..], &mut pairs[..], refresh);
         match self.variant {
-            Variant::Original => {
-                self.forces_loop(NestedShear { tau: &self.stress }, &mut out, &mut parts)
-            }
+            Variant::Original => self.forces_loop(NestedShear { tau: &self.stress }, forces),
             Variant::Artificial {
                 epsilon,
                 n,
@@ -357,18 +368,17 @@ impl<D: Dim> UlSolver<D> {
                         inv_w_dp,
                         n,
                     },
-                    &mut out,
-                    &mut parts,
+                    forces,
                 );
             }
             Variant::NonNested { .. } => self.forces_loop(
                 AccumulatedShear {
                     a_s: &self.accumulated,
                 },
-                &mut out,
-                &mut parts,
+                forces,
             ),
         }
+        self.pairs = pairs;
         self.budget_parts = parts;
         if let Some(contact) = &mut self.contact {
             contact.add_accelerations(
@@ -384,12 +394,14 @@ impl<D: Dim> UlSolver<D> {
 
     /// The force gather: Riemann pressure (eq 12) plus the shear term `S`; with the energy
     /// budget also the dissipative part of the pressure and the artificial stress per particle.
-    /// `parts` is empty when the budget is off.
+    /// `parts` is empty when the budget is off. With `refresh`, `pairs` are first filled from
+    /// the current positions: block by block in the gather's own tasks when the list has its
+    /// halves (each block's force sums right after its pair data, one parallel region), else
+    /// by a plain fill before the gather.
     fn forces_loop<S: ShearForce<D>>(
         &self,
         shear: S,
-        out: &mut [D::Vector],
-        parts: &mut [[D::Vector; 2]],
+        (out, parts, pairs, refresh): ForceBuffers<'_, D>,
     ) {
         let list = &self.list;
         let neighbours = (
@@ -397,45 +409,84 @@ impl<D: Dim> UlSolver<D> {
             list.values(&self.current_volumes),
             list.values(&self.pressures),
         );
-        if parts.is_empty() {
-            gather(
-                out,
+        let offsets = list.offsets();
+        match (&self.halves, refresh) {
+            (Some(halves), true) if parts.is_empty() => halves.fill_then(
+                &self.positions,
+                list,
+                &self.kernel,
+                pairs,
+                (out,),
                 #[inline(always)]
-                |i, a| {
-                    *a = self.force_sum::<S, false>(&shear, neighbours, i).0;
+                |rows, block, (out,)| {
+                    let base = offsets[rows.start];
+                    for (k, i) in rows.enumerate() {
+                        let row = &block[offsets[i] - base..offsets[i + 1] - base];
+                        out[k] = self.force_sum::<S, false>(&shear, neighbours, i, row).0;
+                    }
                 },
-            );
-        } else {
-            gather2(
-                out,
-                parts,
+            ),
+            (Some(halves), true) => halves.fill_then(
+                &self.positions,
+                list,
+                &self.kernel,
+                pairs,
+                (out, parts),
                 #[inline(always)]
-                |i, a, b| {
-                    (*a, *b) = self.force_sum::<S, true>(&shear, neighbours, i);
+                |rows, block, (out, parts)| {
+                    let base = offsets[rows.start];
+                    for (k, i) in rows.enumerate() {
+                        let row = &block[offsets[i] - base..offsets[i + 1] - base];
+                        (out[k], parts[k]) = self.force_sum::<S, true>(&shear, neighbours, i, row);
+                    }
                 },
-            );
+            ),
+            _ => {
+                if refresh {
+                    fill_pair_kernels(&self.positions, &self.positions, list, &self.kernel, pairs);
+                }
+                let pairs = &*pairs;
+                if parts.is_empty() {
+                    gather(
+                        out,
+                        #[inline(always)]
+                        |i, a| {
+                            let row = &pairs[list.range(i)];
+                            *a = self.force_sum::<S, false>(&shear, neighbours, i, row).0;
+                        },
+                    );
+                } else {
+                    gather2(
+                        out,
+                        parts,
+                        #[inline(always)]
+                        |i, a, b| {
+                            let row = &pairs[list.range(i)];
+                            (*a, *b) = self.force_sum::<S, true>(&shear, neighbours, i, row);
+                        },
+                    );
+                }
+            }
         }
     }
 
     /// `a_i` of [`Self::forces_loop`] and, with `BUDGET`, the Riemann-dissipation and
     /// artificial-stress parts of it; `neighbours`: velocities, volumes and pressures read
-    /// through `self.list`.
+    /// through `self.list`; `row`: the kernel data of particle `i`'s pairs.
     #[inline(always)]
     fn force_sum<S: ShearForce<D>, const BUDGET: bool>(
         &self,
         shear: &S,
         (vel_j, vol_j, p_j): ForceNeighbours<'_, D>,
         i: usize,
+        row: &[PairKernel<D>],
     ) -> (D::Vector, [D::Vector; 2]) {
         let (vel, rho, p) = (&self.velocities, &self.densities, &self.pressures);
         let (rho0, c0, scheme) = (self.rho0, self.c0, self.params.riemann);
         let (v_i, p_i, inv_rho_i) = (vel[i], p[i], 1.0 / rho[i]);
         let mut acc = D::zero();
         let mut parts = [D::zero(); 2];
-        for (pk, &j) in self.pairs[self.list.range(i)]
-            .iter()
-            .zip(self.list.neighbors(i))
-        {
+        for (pk, &j) in row.iter().zip(self.list.neighbors(i)) {
             let j = j as usize;
             // SAFETY: `j` is an index of `self.list`, which made the three views
             // (`forces_loop`).
@@ -459,7 +510,7 @@ impl<D: Dim> UlSolver<D> {
     /// of one acoustic step, exposed for tests and diagnostics.
     pub fn evaluate_accelerations(&mut self) -> &[D::Vector] {
         self.update_pressures();
-        self.compute_forces();
+        self.compute_forces(false);
         &self.accelerations
     }
 
@@ -477,11 +528,9 @@ impl<D: Dim> UlSolver<D> {
         // Eq 23 and 4: x, ρ (and τ) to the half step with the previous rates, p and V of the
         // new ρ.
         self.drift_and_pressures(half);
-        if self.params.refresh_kernel_data {
-            self.refresh_pair_kernels();
-        }
-        // Forces, loads, constraints.
-        self.compute_forces();
+        // Kernel data of the half-step positions (when refreshed) and forces; loads,
+        // constraints.
+        self.compute_forces(self.params.refresh_kernel_data);
         if !self.loads.is_empty() {
             if self.load_accelerations.is_empty() {
                 self.loads.add_accelerations(
@@ -510,16 +559,17 @@ impl<D: Dim> UlSolver<D> {
                 .apply_to_accelerations_removed_force(&mut self.accelerations, &self.masses);
             self.constraint_impulse += removed * dt;
         }
+        // Eq 24, with the budget's work of the step's force parts in the same pass.
         if self.params.energy_budget {
-            self.accumulate_work(dt);
+            self.kick_and_accumulate_work(dt);
+        } else {
+            let acc = &self.accelerations;
+            gather(
+                &mut self.velocities,
+                #[inline(always)]
+                |i, v| *v += acc[i] * dt,
+            );
         }
-        // Eq 24.
-        let acc = &self.accelerations;
-        gather(
-            &mut self.velocities,
-            #[inline(always)]
-            |i, v| *v += acc[i] * dt,
-        );
         self.time += dt;
         self.constraints
             .apply_to_velocities(self.time, &mut self.velocities);
@@ -531,10 +581,10 @@ impl<D: Dim> UlSolver<D> {
             (self.list.num_pairs() + self.contact.as_ref().map_or(0, |c| c.num_pairs())) as u64;
     }
 
-    /// Adds the work of this step's force parts to the budget (before the kick; see
+    /// The kick of eq 24, adding the work of this step's force parts to the budget (see
     /// [`crate::energy`]).
-    fn accumulate_work(&mut self, dt: f64) {
-        let (a, v, m) = (&self.accelerations, &self.velocities, &self.masses[..]);
+    fn kick_and_accumulate_work(&mut self, dt: f64) {
+        let (a, v, m) = (&self.accelerations, &mut self.velocities, &self.masses[..]);
         let (parts, a_s, loads) = (
             &self.budget_parts,
             &self.accumulated,
@@ -542,7 +592,7 @@ impl<D: Dim> UlSolver<D> {
         );
         let contact = self.contact.as_ref().map(|c| &c.accelerations[..]);
         let or_zero = |x: &[D::Vector], i: usize| x.get(i).copied().unwrap_or(D::zero());
-        let [riemann, artificial, contact, shear, loads] = step_works::<D, 5>(
+        let [riemann, artificial, contact, shear, loads] = kick_with_works::<D, 5>(
             |i| {
                 [
                     parts[i][0],
