@@ -727,3 +727,33 @@ fn enog_motion_does_not_depend_on_tracking_the_shear_stress() {
     assert!(on.shear_stress().iter().any(|t| *t != glam::DMat2::ZERO));
     assert!(off.shear_stress().is_empty());
 }
+
+#[test]
+fn coincident_particles_are_refused_on_any_thread_count() {
+    // 2,400 particles: the scan of the pairs for a zero distance splits over the team.
+    let set = block::<D2>([60, 40, 1]);
+    let mut b = body(&set, Vec::new());
+    b.positions[1500] = b.positions[1501];
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let e = pool
+            .install(|| {
+                UlSolver::new(
+                    b.clone(),
+                    constants(),
+                    Shear::non_nested(),
+                    UlParams::default(),
+                )
+            })
+            .err()
+            .expect("coincident particles accepted")
+            .to_string();
+        assert!(
+            e.contains("positions") && e.contains("coincides with a neighbour"),
+            "{threads} threads: {e}"
+        );
+    }
+}

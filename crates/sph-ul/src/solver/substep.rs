@@ -67,7 +67,10 @@ impl<D: Dim> UlSolver<D> {
         self.pairs.resize(self.list.num_pairs(), PairKernel::zero());
         self.halves = PairSymmetry::new(&self.list);
         self.refresh_pair_kernels();
-        if let Some(k) = self.pairs.iter().position(|p| p.r <= 0.0) {
+        // On the team: a serial scan of the pairs was most of the rebuild's own time on the
+        // stepping thread (the helper waiting).
+        let pairs = &self.pairs;
+        if let Some(k) = sph_core::parallel::first_index(pairs.len(), |k| pairs[k].r <= 0.0) {
             let i = self.list.offsets().partition_point(|&o| o <= k) - 1;
             return Err(Error::invalid(
                 "positions",
