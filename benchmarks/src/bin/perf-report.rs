@@ -356,6 +356,37 @@ fn threads_section(md: &mut String) {
          on the plate, so that a helper whose core the host takes away holds back less) were \
          timed the same way: UL plate two threads 0.949 (10 rounds) and then 1.027 (16 \
          rounds), column 0.89 (6 rounds, 0.78–1.21): inside the host's noise, not changed.\n\n\
+         **Fewer loops per UL sub-step (2026-12-03, fifth session).** An acoustic sub-step of \
+         UL-ENOG with refreshed kernel data was six loops on the team: the drift, the refresh \
+         of the pair data, the force gather, the energy budget's work sums, the kick and the \
+         rate gather. The refresh and the force gather are now one loop \
+         (`PairSymmetry::fill_then`): each task fills its block of pairs and then sums the \
+         forces of the block's rows, which read only their own pairs, complete once the block \
+         is filled because mirrors are copied only within a block. The budget's work sums and \
+         the kick are one pass too (`energy::kick_with_works`: each block kicks its particles \
+         after taking its sum, so the sums keep their block order). Four loops per sub-step; \
+         the results are the same bits (16 scenes, every dataset and every summary value). The \
+         rebuild's scan of the pairs for coincident particles, 82 % of the rebuild's own \
+         samples on the stepping thread while the helper waited, now runs on the team \
+         (`parallel::first_index`). Per-thread profiles, the UL-ENOG anchor command with \
+         `--set end_time=0.25 --threads 2`, the build before (0bc9343) and after (fc35c19) \
+         alternated, two runs each, the host loaded: the helper spinning and the stepping \
+         thread waiting together took 16.4 % and 15.3 % of the samples before, 12.5 % and \
+         13.9 % after; the fused loop took 23.4 / 23.7 % and 23.6 / 22.4 % (stepping thread / \
+         helper), against 11.2 + 11.5 / 10.3 + 10.9 % for the two loops before. Instructions, \
+         one thread, to t = 0.02 s (cachegrind, whole process): 5.9301·10⁹ → 5.9455·10⁹ \
+         (+0.26 %): the fused loop executes 1.4 % more than the refresh and the gather did \
+         (the row slices of each block), the fused kick 15 % fewer than the sums and the kick. \
+         Wall time to t = 0.1 s, two threads, the builds interleaved 30 rounds: median ratio \
+         0.973 (0.75–1.27: the host's noise that day). The `cbrt` of `J^(−2/3)` (3D \
+         Neo-Hookean stress) is 5 % of the twisting column's one-thread time: Rust links the \
+         correctly rounded `cbrt` of its `compiler_builtins` (CORE-MATH), about 25 ns per call \
+         here. A division-free replacement (Newton steps on `x^(−1/3)` and an exact rounding \
+         test with FMA residuals, falling back to the library's `cbrt` when undecided; the \
+         same bits on 2·10⁸ inputs, 13 fallbacks) was not faster (0.9–1.18× the library's \
+         time, one process, alternating): not adopted. The monitor's disorder indicator is \
+         another 5.4 % of the column's one-thread time (`perf record`, the anchor command; two \
+         square roots and a kernel value per pair at each of the 200 samples).\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
