@@ -205,6 +205,51 @@ pub fn machine() -> String {
     format!("{cpu}, {cores} hardware threads")
 }
 
+/// The commit of the checkout at `root`, `+changes` appended when its tracked files differ
+/// from it ("unknown" outside a git checkout): the build a timing or a count was made with.
+pub fn build_name(root: &Path) -> String {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .current_dir(root)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    let commit = git(&["rev-parse", "--short", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    let dirty =
+        git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+    if dirty {
+        format!("{commit}+changes")
+    } else {
+        commit
+    }
+}
+
+/// Today's date in UTC, `YYYY-MM-DD` (the civil date of the Unix day number, H. Hinnant's
+/// `civil_from_days`).
+pub fn utc_date() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    civil_date((secs / 86_400) as i64)
+}
+
+/// The civil date of day `days` after 1970-01-01.
+fn civil_date(days: i64) -> String {
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}")
+}
+
 /// Where timings recorded before they carried their machine were taken: docs/performance.md
 /// of that time names it ("Machine: AMD EPYC, 2 hardware threads").
 pub const EARLIER_MACHINE: &str = "AMD EPYC, 2 hardware threads";
@@ -212,6 +257,14 @@ pub const EARLIER_MACHINE: &str = "AMD EPYC, 2 hardware threads";
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn civil_dates_of_known_days() {
+        assert_eq!(civil_date(0), "1970-01-01");
+        assert_eq!(civil_date(11_016), "2000-02-29");
+        assert_eq!(civil_date(20_790), "2026-12-03");
+        assert_eq!(civil_date(-1), "1969-12-31");
+    }
 
     #[test]
     fn lattice_has_the_requested_size_and_stays_in_its_cells() {

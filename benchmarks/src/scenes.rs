@@ -11,6 +11,9 @@ pub struct Scene {
     pub args: Vec<&'static str>,
     /// The thread counts it is timed at.
     pub threads: &'static [usize],
+    /// The SPHinXsys test that runs the same case (an anchor row), as its path in a SPHinXsys
+    /// build directory (`benchmarks/sphinxsys/README.md`; `case-timings --sphinxsys`).
+    pub sphinxsys: Option<&'static str>,
 }
 
 /// The scenes: the anchor cases of the performance target (the SPHinXsys comparison) and one
@@ -31,6 +34,9 @@ pub fn scenes() -> Vec<Scene> {
                 "end_time=1",
             ],
             threads: both,
+            sphinxsys: Some(
+                "tests/2d_examples/test_2d_oscillating_beam/bin/test_2d_oscillating_beam",
+            ),
         },
         Scene {
             group: "anchors",
@@ -45,6 +51,9 @@ pub fn scenes() -> Vec<Scene> {
                 "end_time=1",
             ],
             threads: both,
+            sphinxsys: Some(
+                "tests/2d_examples/test_2d_oscillating_beam_UL/bin/test_2d_oscillating_beam_UL",
+            ),
         },
         Scene {
             group: "anchors",
@@ -69,12 +78,16 @@ pub fn scenes() -> Vec<Scene> {
                 "cfl=0.5",
             ],
             threads: both,
+            sphinxsys: Some(
+                "tests/3d_examples/test_3d_twisting_column/bin/test_3d_twisting_column",
+            ),
         },
         Scene {
             group: "extreme",
             label: "punching strip, TL-HF, H/dp 30, to 50 %",
             args: vec!["punching-strip-2d", "--method", "tl-hf"],
             threads: &[2],
+            sphinxsys: None,
         },
         Scene {
             group: "extreme",
@@ -87,6 +100,7 @@ pub fn scenes() -> Vec<Scene> {
                 "stretch=2",
             ],
             threads: &[2],
+            sphinxsys: None,
         },
         Scene {
             group: "extreme",
@@ -99,12 +113,14 @@ pub fn scenes() -> Vec<Scene> {
                 "stretch=1.5",
             ],
             threads: &[2],
+            sphinxsys: None,
         },
         Scene {
             group: "extreme",
             label: "stent, point forces, TL-HF, dp = wall/3, to 0.02 ms",
             args: vec!["stent-3d", "--method", "tl-hf", "--set", "end_time=2e-5"],
             threads: &[2],
+            sphinxsys: None,
         },
         memory_scene("stored"),
         memory_scene("recomputed"),
@@ -119,6 +135,7 @@ pub fn scenes() -> Vec<Scene> {
                 "dp=0.002",
             ],
             threads: &[2],
+            sphinxsys: None,
         },
         Scene {
             group: "impacts",
@@ -133,12 +150,14 @@ pub fn scenes() -> Vec<Scene> {
                 "end_time=0.002",
             ],
             threads: &[2],
+            sphinxsys: None,
         },
         Scene {
             group: "impacts",
             label: "Hertz impact of two spheres, UL-ENOG, R/dp 10, whole contact",
             args: vec!["hertz-impact-3d", "--method", "ul-enog"],
             threads: &[2],
+            sphinxsys: None,
         },
     ]
 }
@@ -174,5 +193,6 @@ fn memory_scene(pair_data: &'static str) -> Scene {
             key,
         ],
         threads: &[2],
+        sphinxsys: None,
     }
 }

@@ -7,12 +7,19 @@
 //! ```text
 //! cargo build --release -p sph-cases --bin sph
 //! cargo run --release -p sph-benchmarks --bin case-timings [-- --repeats 3] [--only anchors|extreme|impacts|memory]
+//! cargo run --release -p sph-benchmarks --bin case-timings -- --sphinxsys DIR [--repeats 3]
 //! ```
 //! Time only on a quiet machine (no build, test or other run): the numbers are wall-clock.
+//!
+//! `--sphinxsys DIR` times the anchor rows beside SPHinXsys instead: `DIR` is a SPHinXsys build
+//! with the three patched tests of `benchmarks/sphinxsys/`, and each round runs the SPHinXsys
+//! test and then ours, so that both sides of a ratio see the same machine even when its speed
+//! drifts. Writes `benchmarks/results/anchors-interleaved.json` (the per-round times and
+//! ratios, with the date and build), which `perf-report` shows below the anchor table.
 
 use serde_json::{json, Value};
-use sph_benchmarks::scenes::scenes;
-use std::path::PathBuf;
+use sph_benchmarks::scenes::{scenes, Scene};
+use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
@@ -58,6 +65,138 @@ fn median_and_spread(mut v: Vec<f64>) -> Value {
     json!({ "median": median, "min": v[0], "max": v[v.len() - 1], "all": v })
 }
 
+/// One run of our `sph` on `scene` (no output), its summary written to `summary`; exits with
+/// an error if the run fails.
+fn run_ours(sph: &Path, scene: &Scene, threads: usize, summary: &Path) -> Cost {
+    let (status, cost) = run_measured(
+        Command::new(sph)
+            .arg("run")
+            .args(&scene.args)
+            .args(["--no-output", "--threads", &threads.to_string()])
+            .arg("--summary")
+            .arg(summary)
+            .stdout(std::process::Stdio::null()),
+    );
+    if !status.success() {
+        eprintln!("error: {} failed ({status})", scene.label);
+        std::process::exit(1);
+    }
+    cost
+}
+
+/// One run of a SPHinXsys test with `threads` TBB threads, in a fresh directory `cwd` (the
+/// library writes `output/`, `restart/`, `reload/` and a log there at start-up), removed after.
+fn run_sphinxsys(binary: &Path, threads: usize, cwd: &Path) -> Cost {
+    std::fs::create_dir_all(cwd).expect("scratch directory");
+    let (status, cost) = run_measured(
+        Command::new(binary)
+            .current_dir(cwd)
+            .env("SPHX_THREADS", threads.to_string())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null()),
+    );
+    let _ = std::fs::remove_dir_all(cwd);
+    if !status.success() {
+        eprintln!("error: {} failed ({status})", binary.display());
+        std::process::exit(1);
+    }
+    cost
+}
+
+/// The repository root above this binary (for the results directory).
+fn repository_root(exe: &Path) -> PathBuf {
+    exe.ancestors()
+        .find(|p| p.join("Cargo.lock").exists())
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("."))
+}
+
+/// `--sphinxsys DIR`: each anchor row timed in rounds of (SPHinXsys, ours); the rows are added
+/// to `benchmarks/results/anchors-interleaved.json` (a row of the same scene, threads, machine,
+/// build and date is replaced).
+fn interleaved(dir: &Path, sph: &Path, repeats: usize, scratch: &Path, root: &Path) {
+    let anchors: Vec<(Scene, PathBuf)> = scenes()
+        .into_iter()
+        .filter_map(|s| {
+            let binary = dir.join(s.sphinxsys?);
+            Some((s, binary))
+        })
+        .collect();
+    for (_, binary) in &anchors {
+        if !binary.is_file() {
+            eprintln!(
+                "error: --sphinxsys: {} not found (a SPHinXsys build with the patched tests of \
+                 benchmarks/sphinxsys/README.md)",
+                binary.display()
+            );
+            std::process::exit(2);
+        }
+    }
+    let (date, build) = (sph_benchmarks::utc_date(), sph_benchmarks::build_name(root));
+    let mut rows = Vec::new();
+    for (scene, binary) in &anchors {
+        for &threads in scene.threads {
+            let mut rounds = Vec::new();
+            let (mut theirs, mut ours, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+            for k in 0..repeats {
+                let sx = run_sphinxsys(binary, threads, &scratch.join(format!("sphinxsys-{k}")));
+                let me = run_ours(sph, scene, threads, &scratch.join(format!("s{k}.json")));
+                let ratio = sx.wall / me.wall;
+                eprintln!(
+                    "{} ({threads} thread{}): round {}: SPHinXsys {:.2} s, ours {:.2} s, ratio {:.2}",
+                    scene.label,
+                    if threads == 1 { "" } else { "s" },
+                    k + 1,
+                    sx.wall,
+                    me.wall,
+                    ratio
+                );
+                rounds.push(json!({ "sphinxsys": sx.wall, "ours": me.wall, "ratio": ratio }));
+                theirs.push(sx.wall);
+                ours.push(me.wall);
+                ratios.push(ratio);
+            }
+            rows.push(json!({
+                "machine": sph_benchmarks::machine(),
+                "date": date,
+                "build": build,
+                "label": scene.label,
+                "threads": threads,
+                "sphinxsys_test": scene.sphinxsys,
+                "rounds": rounds,
+                "sphinxsys_wall_seconds": median_and_spread(theirs),
+                "wall_seconds": median_and_spread(ours),
+                "ratio": median_and_spread(ratios),
+            }));
+        }
+    }
+    let out = root
+        .join("benchmarks")
+        .join("results")
+        .join("anchors-interleaved.json");
+    let mut all: Vec<Value> = std::fs::read_to_string(&out)
+        .ok()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+        .and_then(|v| v.get("rows").and_then(Value::as_array).cloned())
+        .unwrap_or_default();
+    let key = |r: &Value| {
+        format!(
+            "{}|{}|{}|{}|{}",
+            r["label"], r["threads"], r["machine"], r["build"], r["date"]
+        )
+    };
+    let fresh: Vec<String> = rows.iter().map(key).collect();
+    all.retain(|r| !fresh.contains(&key(r)));
+    all.extend(rows);
+    let doc = json!({
+        "generated_by": "cargo run --release -p sph-benchmarks --bin case-timings -- --sphinxsys DIR",
+        "rows": all,
+    });
+    std::fs::create_dir_all(out.parent().unwrap()).expect("results directory");
+    std::fs::write(&out, serde_json::to_string_pretty(&doc).unwrap()).expect("write results");
+    println!("wrote {}", out.display());
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let repeats: usize = args
@@ -82,6 +221,20 @@ fn main() {
     }
     let scratch = std::env::temp_dir().join(format!("sph-case-timings-{}", std::process::id()));
     std::fs::create_dir_all(&scratch).expect("scratch directory");
+    let root = repository_root(&exe);
+    if let Some(dir) = args
+        .iter()
+        .position(|a| a == "--sphinxsys")
+        .map(|k| args.get(k + 1).map(PathBuf::from))
+    {
+        let Some(dir) = dir else {
+            eprintln!("error: --sphinxsys needs the SPHinXsys build directory");
+            std::process::exit(2);
+        };
+        interleaved(&dir, &sph, repeats, &scratch, &root);
+        let _ = std::fs::remove_dir_all(&scratch);
+        return;
+    }
     let mut rows = Vec::new();
     for scene in scenes() {
         if only.as_deref().is_some_and(|o| o != scene.group) {
@@ -93,19 +246,7 @@ fn main() {
             let mut summary = Value::Null;
             for k in 0..repeats {
                 let path: PathBuf = scratch.join(format!("s{k}.json"));
-                let (status, cost) = run_measured(
-                    Command::new(&sph)
-                        .arg("run")
-                        .args(&scene.args)
-                        .args(["--no-output", "--threads", &threads.to_string()])
-                        .arg("--summary")
-                        .arg(&path)
-                        .stdout(std::process::Stdio::null()),
-                );
-                if !status.success() {
-                    eprintln!("error: {} failed ({status})", scene.label);
-                    std::process::exit(1);
-                }
+                let cost = run_ours(&sph, &scene, threads, &path);
                 eprintln!(
                     "{} ({threads} thread{}): run {}: {:.2} s wall, {:.2} s user, {:.2} s sys, \
                      {:.0} MB peak",
@@ -149,11 +290,6 @@ fn main() {
         }
     }
     let _ = std::fs::remove_dir_all(&scratch);
-    let root = exe
-        .ancestors()
-        .find(|p| p.join("Cargo.lock").exists())
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("."));
     let out = root
         .join("benchmarks")
         .join("results")

@@ -40,27 +40,6 @@ fn end_time(args: &[&str]) -> Option<f64> {
         .and_then(|v| v.parse().ok())
 }
 
-/// The commit of the checkout at `root`, `+changes` appended when its tree differs from it.
-fn build_name(root: &Path) -> String {
-    let git = |args: &[&str]| {
-        Command::new("git")
-            .args(args)
-            .current_dir(root)
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-    };
-    let commit = git(&["rev-parse", "--short", "HEAD"]).unwrap_or_else(|| "unknown".into());
-    let dirty =
-        git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
-    if dirty {
-        format!("{commit}+changes")
-    } else {
-        commit
-    }
-}
-
 /// Total instructions and instructions per function of a cachegrind output file (events `Ir`
 /// only, as `--cache-sim=no` writes them).
 fn read_cachegrind(path: &Path) -> (u64, BTreeMap<String, u64>) {
@@ -177,7 +156,7 @@ fn main() {
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from("."));
     let sph = flag(&args, "--sph").map_or_else(|| exe.with_file_name("sph"), PathBuf::from);
-    let build = flag(&args, "--build").unwrap_or_else(|| build_name(&root));
+    let build = flag(&args, "--build").unwrap_or_else(|| sph_benchmarks::build_name(&root));
     let end: f64 = flag(&args, "--end").map_or(0.02, |v| v.parse().expect("--end: seconds"));
     if !sph.exists() {
         eprintln!(

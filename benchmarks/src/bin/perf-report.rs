@@ -738,6 +738,68 @@ fn sphinxsys_reference(root: &Path) -> (Vec<Reference>, Vec<String>) {
     (rows, how)
 }
 
+/// The anchor rows timed in rounds of SPHinXsys and ours (`case-timings --sphinxsys`,
+/// `benchmarks/results/anchors-interleaved.json`), if any.
+fn interleaved_anchors(md: &mut String, root: &Path) {
+    let path = root
+        .join("benchmarks")
+        .join("results")
+        .join("anchors-interleaved.json");
+    let Some(doc) = std::fs::read_to_string(&path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+    else {
+        return;
+    };
+    let rows = doc["rows"].as_array().cloned().unwrap_or_default();
+    if rows.is_empty() {
+        return;
+    }
+    writeln!(
+        md,
+        "#### The anchor rows and SPHinXsys in the same rounds
+
+         From `benchmarks/results/anchors-interleaved.json` (`cargo run --release -p \
+         sph-benchmarks --bin case-timings -- --sphinxsys DIR`; how to build the SPHinXsys \
+         side: `benchmarks/sphinxsys/README.md`). Each round runs the SPHinXsys test and then \
+         ours, whole-process wall time; the ratio of a round is SPHinXsys / ours, and the \
+         median of the rounds is given with their range. Both sides of a ratio see the machine \
+         as it is at that moment, which absolute times from different days do not; but on a \
+         loaded machine the two programs need not slow down alike (on 2026-12-03 our \
+         two-thread runs lost more to the load than SPHinXsys's), so the quiet-window table \
+         above stays the measurement of record.\n"
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "| scene | machine | date | build | threads | rounds | SPHinXsys (s) | ours (s) | ratio | range |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|").unwrap();
+    let f = |v: &serde_json::Value, k: &str, q: &str| {
+        v[k][q].as_f64().map_or("–".into(), |x| format!("{x:.2}"))
+    };
+    for r in &rows {
+        writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {}–{} |",
+            r["label"].as_str().unwrap_or("?"),
+            short_machine(&row_machine(r)),
+            r["date"].as_str().unwrap_or("?"),
+            r["build"].as_str().unwrap_or("?"),
+            r["threads"],
+            r["rounds"].as_array().map_or(0, Vec::len),
+            f(r, "sphinxsys_wall_seconds", "median"),
+            f(r, "wall_seconds", "median"),
+            f(r, "ratio", "median"),
+            f(r, "ratio", "min"),
+            f(r, "ratio", "max"),
+        )
+        .unwrap();
+    }
+    writeln!(md).unwrap();
+}
+
 /// The machine a results row was measured on (rows from before the field: [`sph_benchmarks::EARLIER_MACHINE`]).
 fn row_machine(r: &serde_json::Value) -> String {
     r["machine"]
@@ -955,6 +1017,7 @@ fn case_timings_section(md: &mut String, root: &Path) {
             if !how.is_empty() {
                 writeln!(md).unwrap();
             }
+            interleaved_anchors(md, root);
         }
     }
 }
