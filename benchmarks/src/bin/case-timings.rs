@@ -132,6 +132,7 @@ fn interleaved(dir: &Path, sph: &Path, repeats: usize, scratch: &Path, root: &Pa
             std::process::exit(2);
         }
     }
+    std::fs::create_dir_all(scratch).expect("scratch directory");
     let (date, build) = (sph_benchmarks::utc_date(), sph_benchmarks::build_name(root));
     let mut rows = Vec::new();
     for (scene, binary) in &anchors {
@@ -220,7 +221,6 @@ fn main() {
         std::process::exit(2);
     }
     let scratch = std::env::temp_dir().join(format!("sph-case-timings-{}", std::process::id()));
-    std::fs::create_dir_all(&scratch).expect("scratch directory");
     let root = repository_root(&exe);
     if let Some(dir) = args
         .iter()
@@ -235,6 +235,7 @@ fn main() {
         let _ = std::fs::remove_dir_all(&scratch);
         return;
     }
+    std::fs::create_dir_all(&scratch).expect("scratch directory");
     let mut rows = Vec::new();
     for scene in scenes() {
         if only.as_deref().is_some_and(|o| o != scene.group) {

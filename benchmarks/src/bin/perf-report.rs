@@ -386,7 +386,14 @@ fn threads_section(md: &mut String) {
          same bits on 2·10⁸ inputs, 13 fallbacks) was not faster (0.9–1.18× the library's \
          time, one process, alternating): not adopted. The monitor's disorder indicator is \
          another 5.4 % of the column's one-thread time (`perf record`, the anchor command; two \
-         square roots and a kernel value per pair at each of the 200 samples).\n\n\
+         square roots and a kernel value per pair at each of the 200 samples). The anchor \
+         rows were then timed beside SPHinXsys in the same rounds (`case-timings --sphinxsys`, \
+         the table below the anchor table; build 741590d, the physics of c4aa48f), the host \
+         loaded: SPHinXsys took 1.6–3.1× its quiet-window times. Median ratios of three \
+         rounds: UL-ENOG plate 2.53 on one thread and 1.88 (1.85–2.37) on two; twisting \
+         column 2.31 (2.25–2.74) on one thread and 2.76 (2.58–2.83) on two; TL plate 5.80 and \
+         3.19. Our two-thread runs lost the most to the load (the TL plate took as long on two \
+         threads as on one).\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
@@ -757,8 +764,7 @@ fn interleaved_anchors(md: &mut String, root: &Path) {
     }
     writeln!(
         md,
-        "#### The anchor rows and SPHinXsys in the same rounds
-
+        "#### The anchor rows and SPHinXsys in the same rounds\n\n\
          From `benchmarks/results/anchors-interleaved.json` (`cargo run --release -p \
          sph-benchmarks --bin case-timings -- --sphinxsys DIR`; how to build the SPHinXsys \
          side: `benchmarks/sphinxsys/README.md`). Each round runs the SPHinXsys test and then \
