@@ -103,6 +103,23 @@ fn run_sphinxsys(binary: &Path, threads: usize, cwd: &Path) -> Cost {
     cost
 }
 
+/// Writes `rows` into the results file `out` (`{"generated_by", "rows"}`), keeping its rows
+/// whose `key` no new row has.
+fn merge_rows(out: &Path, rows: Vec<Value>, key: impl Fn(&Value) -> String, generated_by: &str) {
+    let mut all: Vec<Value> = std::fs::read_to_string(out)
+        .ok()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+        .and_then(|v| v.get("rows").and_then(Value::as_array).cloned())
+        .unwrap_or_default();
+    let fresh: Vec<String> = rows.iter().map(&key).collect();
+    all.retain(|r| !fresh.contains(&key(r)));
+    all.extend(rows);
+    let doc = json!({ "generated_by": generated_by, "rows": all });
+    std::fs::create_dir_all(out.parent().unwrap()).expect("results directory");
+    std::fs::write(out, serde_json::to_string_pretty(&doc).unwrap()).expect("write results");
+    println!("wrote {}", out.display());
+}
+
 /// The repository root above this binary (for the results directory).
 fn repository_root(exe: &Path) -> PathBuf {
     exe.ancestors()
@@ -175,42 +192,44 @@ fn interleaved(dir: &Path, sph: &Path, repeats: usize, scratch: &Path, root: &Pa
         .join("benchmarks")
         .join("results")
         .join("anchors-interleaved.json");
-    let mut all: Vec<Value> = std::fs::read_to_string(&out)
-        .ok()
-        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
-        .and_then(|v| v.get("rows").and_then(Value::as_array).cloned())
-        .unwrap_or_default();
+    // A row is replaced by the same scene, threads, machine, build and date: the other days stay.
     let key = |r: &Value| {
         format!(
             "{}|{}|{}|{}|{}",
             r["label"], r["threads"], r["machine"], r["build"], r["date"]
         )
     };
-    let fresh: Vec<String> = rows.iter().map(key).collect();
-    all.retain(|r| !fresh.contains(&key(r)));
-    all.extend(rows);
-    let doc = json!({
-        "generated_by": "cargo run --release -p sph-benchmarks --bin case-timings -- --sphinxsys DIR",
-        "rows": all,
-    });
-    std::fs::create_dir_all(out.parent().unwrap()).expect("results directory");
-    std::fs::write(&out, serde_json::to_string_pretty(&doc).unwrap()).expect("write results");
-    println!("wrote {}", out.display());
+    merge_rows(
+        &out,
+        rows,
+        key,
+        "cargo run --release -p sph-benchmarks --bin case-timings -- --sphinxsys DIR",
+    );
 }
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let repeats: usize = args
-        .iter()
-        .position(|a| a == "--repeats")
-        .and_then(|k| args.get(k + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(3);
+    let repeats: usize = match args.iter().position(|a| a == "--repeats") {
+        None => 3,
+        Some(k) => match args.get(k + 1).and_then(|v| v.parse().ok()) {
+            Some(r) if r >= 1 => r,
+            _ => {
+                eprintln!("error: --repeats: a whole number of runs, at least 1");
+                std::process::exit(2);
+            }
+        },
+    };
     let only = args
         .iter()
         .position(|a| a == "--only")
         .and_then(|k| args.get(k + 1))
         .cloned();
+    let mut groups: Vec<&str> = scenes().iter().map(|s| s.group).collect();
+    groups.dedup();
+    if let Some(o) = only.as_deref().filter(|o| !groups.contains(o)) {
+        eprintln!("error: --only {o}: one of {}", groups.join(", "));
+        std::process::exit(2);
+    }
     let exe = std::env::current_exe().expect("own path");
     let sph = exe.with_file_name("sph");
     if !sph.exists() {
@@ -295,14 +314,7 @@ fn main() {
         .join("benchmarks")
         .join("results")
         .join("case-timings.json");
-    std::fs::create_dir_all(out.parent().unwrap()).expect("results directory");
-    // Keep the rows of groups not run this time.
-    let mut all: Vec<Value> = std::fs::read_to_string(&out)
-        .ok()
-        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
-        .and_then(|v| v.get("rows").and_then(Value::as_array).cloned())
-        .unwrap_or_default();
-    // A row is replaced only by the same scene, thread count and machine: the rows of another
+    // The rows of groups not run this time stay. A row is replaced only by the same scene, thread count and machine: the rows of another
     // machine stay (each beside the SPHinXsys time of its own machine in the report).
     let key = |r: &Value| {
         format!(
@@ -314,13 +326,10 @@ fn main() {
                 .unwrap_or(sph_benchmarks::EARLIER_MACHINE)
         )
     };
-    let fresh: Vec<String> = rows.iter().map(key).collect();
-    all.retain(|r| !fresh.contains(&key(r)));
-    all.extend(rows);
-    let doc = json!({
-        "generated_by": "cargo run --release -p sph-benchmarks --bin case-timings",
-        "rows": all,
-    });
-    std::fs::write(&out, serde_json::to_string_pretty(&doc).unwrap()).expect("write results");
-    println!("wrote {}", out.display());
+    merge_rows(
+        &out,
+        rows,
+        key,
+        "cargo run --release -p sph-benchmarks --bin case-timings",
+    );
 }
