@@ -250,6 +250,10 @@ fn main() {
             eprintln!("error: --sphinxsys needs the SPHinXsys build directory");
             std::process::exit(2);
         };
+        if only.as_deref().is_some_and(|o| o != "anchors") {
+            eprintln!("error: --sphinxsys times the anchor rows only (--only anchors or none)");
+            std::process::exit(2);
+        }
         interleaved(&dir, &sph, repeats, &scratch, &root);
         let _ = std::fs::remove_dir_all(&scratch);
         return;
