@@ -103,15 +103,17 @@ impl<D: Dim> UlSolver<D> {
     /// `pairs` from the current positions: each unordered pair computed once when the list
     /// has its two halves (always, for a self list), bit for bit the plain fill otherwise.
     fn refresh_pair_kernels(&mut self) {
+        let mut pairs = std::mem::take(&mut self.pairs);
+        self.fill_pairs(&mut pairs);
+        self.pairs = pairs;
+    }
+
+    /// The fill of [`Self::refresh_pair_kernels`] into `pairs` (a buffer of `self.list`).
+    fn fill_pairs(&self, pairs: &mut [PairKernel<D>]) {
+        let (x, list, kernel) = (&self.positions, &self.list, &self.kernel);
         match &self.halves {
-            Some(halves) => halves.fill(&self.positions, &self.list, &self.kernel, &mut self.pairs),
-            None => fill_pair_kernels(
-                &self.positions,
-                &self.positions,
-                &self.list,
-                &self.kernel,
-                &mut self.pairs,
-            ),
+            Some(halves) => halves.fill(x, list, kernel, pairs),
+            None => fill_pair_kernels(x, x, list, kernel, pairs),
         }
     }
 
@@ -446,7 +448,7 @@ impl<D: Dim> UlSolver<D> {
             ),
             _ => {
                 if refresh {
-                    fill_pair_kernels(&self.positions, &self.positions, list, &self.kernel, pairs);
+                    self.fill_pairs(pairs);
                 }
                 let pairs = &*pairs;
                 if parts.is_empty() {
