@@ -16,8 +16,9 @@ pub struct Scene {
     pub sphinxsys: Option<&'static str>,
 }
 
-/// The scenes: the anchor cases of the performance target (the SPHinXsys comparison) and one
-/// row per extreme TL scene (a short, representative slice of each run).
+/// The scenes: the anchor cases of the performance target (the SPHinXsys comparison; the UL
+/// plate also with its kernel data frozen over the advection step, the scheme of SPHinXsys's
+/// test) and one row per extreme TL scene (a short, representative slice of each run).
 pub fn scenes() -> Vec<Scene> {
     let both: &'static [usize] = &[1, 2];
     vec![
@@ -49,6 +50,26 @@ pub fn scenes() -> Vec<Scene> {
                 "h_over_dp=1.3",
                 "--set",
                 "end_time=1",
+            ],
+            threads: both,
+            sphinxsys: Some(
+                "tests/2d_examples/test_2d_oscillating_beam_UL/bin/test_2d_oscillating_beam_UL",
+            ),
+        },
+        Scene {
+            group: "anchors",
+            label: "2D oscillating plate, UL-ENOG dual stepping, kernel data frozen over the \
+                    advection step (SPHinXsys's scheme), H/dp 10, t = 1 s",
+            args: vec![
+                "oscillating-plate-2d",
+                "--method",
+                "ul-enog",
+                "--set",
+                "h_over_dp=1.3",
+                "--set",
+                "end_time=1",
+                "--set",
+                "refresh_kernel_data=false",
             ],
             threads: both,
             sphinxsys: Some(
