@@ -346,6 +346,37 @@ pub(crate) fn threads_section(md: &mut String) {
          column 2.31 (2.25–2.74) on one thread and 2.76 (2.58–2.83) on two; TL plate 5.80 and \
          3.19. Our two-thread runs lost the most to the load (the TL plate took as long on two \
          threads as on one).\n\n\
+         **The UL plate's two rows, and two rewrites that did not pay (2026-12-03, sixth \
+         session).** SPHinXsys's UL test updates the kernel data with the neighbour list only, \
+         once per advection step; ours recomputes them in every acoustic sub-step by default \
+         (docs/methods.md). The anchor rows now include the UL plate with `--set \
+         refresh_kernel_data=false`, SPHinXsys's scheme. Timed beside SPHinXsys in the same \
+         rounds (build 256dee9, the physics of a9f62bf; the host loaded, SPHinXsys 1.7–1.9× \
+         its quiet times), median of three rounds: the default UL plate 2.70 (2.60–2.88) on \
+         one thread and 2.60 (2.08–2.77) on two; with the kernel data frozen 3.89 (3.29–3.96) \
+         and 2.94 (2.69–3.02); the twisting column 2.39 (2.32–2.39) and 2.92 (2.41–3.04); the \
+         TL plate 4.81 and 2.91. Per-thread profile of the default UL plate on two threads \
+         (`perf record -e cpu-clock`, the anchor command to t = 0.25 s, build a9f62bf): the \
+         fused refresh and force gather 25.7 / 24.9 % (stepping thread / helper), the rate \
+         gather 8.8 / 8.5 %, the neighbour search 3.0 / 2.9 %, the helper spinning 6.0 %, the \
+         stepping thread waiting 2.6 %, its own serial work (cell grid, list assembly, \
+         permutation, the monitor's `hypot`, `atan2` and `sincos`) about 2.5 %. The twisting \
+         column on one and two threads (to t = 0.1 s, 2,000 samples per second, alternated \
+         twice): 11,330 and 10,780 samples on one thread, 11,195 and 12,031 on two, so the \
+         second thread adds no work; what one thread lacks is in the loops themselves. Their \
+         time per pair hardly depends on whether the pair data fit the cache (the column at \
+         resolution 5, 10 and 16: 775, 6,100 and 24,832 particles, 1.4, 14 and 62 MB of pair \
+         data; two runs each, 150 steps, the monitor off): HF acceleration 7.3–8.5, 6.7–7.8 \
+         and 7.5–8.4 ns per pair, deformation rate 3.5–3.7, 4.2–4.9 and 4.7–5.1 ns (loaded \
+         host, about twice the quiet times). Tried and dropped: (1) the disorder indicator's \
+         two square roots per pair in one two-lane `vsqrtpd` (the same bits): its samples over \
+         the HF acceleration's 0.40 and 0.42 before, 0.46 and 0.44 after (the column to t = \
+         0.1 s, one thread, alternated), so the divider does not bound it; (2) fused \
+         multiply-adds in the HF acceleration and the deformation rate (`mul_add` into the \
+         accumulators; it changes the rounding): their samples over the stress update's grew \
+         from 3.69 / 3.88 / 4.11 to 4.80 / 4.08 / 4.27 (three alternated runs), because each \
+         pair then adds three dependent operations to the accumulator's chain instead of one; \
+         the loops are not bound by the number of floating-point operations.\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
