@@ -73,6 +73,26 @@ pub trait Dim: Copy + Debug + Default + Send + Sync + 'static {
     fn set_component(v: &mut Self::Vector, k: usize, value: f64);
     /// Scalar product.
     fn dot(a: Self::Vector, b: Self::Vector) -> f64;
+    /// `v` as 3D vectors when `Self` is [`D3`] (for loops written for 3D only), else `None`.
+    #[inline(always)]
+    fn as_vec3(_v: &[Self::Vector]) -> Option<&[DVec3]> {
+        None
+    }
+    /// `v` as 3D vectors when `Self` is [`D3`], else `None`.
+    #[inline(always)]
+    fn as_vec3_mut(_v: &mut [Self::Vector]) -> Option<&mut [DVec3]> {
+        None
+    }
+    /// `m` as 3×3 matrices when `Self` is [`D3`], else `None`.
+    #[inline(always)]
+    fn as_mat3(_m: &[Self::Matrix]) -> Option<&[DMat3]> {
+        None
+    }
+    /// `m` as 3×3 matrices when `Self` is [`D3`], else `None`.
+    #[inline(always)]
+    fn as_mat3_mut(_m: &mut [Self::Matrix]) -> Option<&mut [DMat3]> {
+        None
+    }
     /// Euclidean norm.
     fn norm(v: Self::Vector) -> f64 {
         Self::dot(v, v).sqrt()
@@ -306,6 +326,22 @@ impl Dim for D3 {
     #[inline(always)]
     fn zero_matrix() -> DMat3 {
         DMat3::ZERO
+    }
+    #[inline(always)]
+    fn as_vec3(v: &[DVec3]) -> Option<&[DVec3]> {
+        Some(v)
+    }
+    #[inline(always)]
+    fn as_vec3_mut(v: &mut [DVec3]) -> Option<&mut [DVec3]> {
+        Some(v)
+    }
+    #[inline(always)]
+    fn as_mat3(m: &[DMat3]) -> Option<&[DMat3]> {
+        Some(m)
+    }
+    #[inline(always)]
+    fn as_mat3_mut(m: &mut [DMat3]) -> Option<&mut [DMat3]> {
+        Some(m)
     }
     #[inline(always)]
     fn outer(a: DVec3, b: DVec3) -> DMat3 {

@@ -60,6 +60,54 @@ pub fn acceleration<D: Dim>(
     zeta_g_over_rho: f64,
     acc: &mut [D::Vector],
 ) {
+    // 3D with stored pair data: the same sums with a vector in one AVX register.
+    #[cfg(target_arch = "x86_64")]
+    if crate::lanes::available() {
+        if let (Some((g, s)), Some(p), Some(x), Some(a)) = (
+            pairs.stored(),
+            D::as_mat3(remaining),
+            D::as_vec3(positions),
+            D::as_vec3_mut(acc),
+        ) {
+            if let (Some(g), false) = (D::as_vec3(g), s.is_empty()) {
+                let list = pairs.list();
+                crate::lanes::hf_acceleration(
+                    list,
+                    g,
+                    s,
+                    p,
+                    x,
+                    isochoric,
+                    inv_density,
+                    zeta_g_over_rho,
+                    a,
+                );
+                return;
+            }
+        }
+    }
+    acceleration_generic(
+        pairs,
+        remaining,
+        positions,
+        isochoric,
+        inv_density,
+        zeta_g_over_rho,
+        acc,
+    );
+}
+
+/// [`acceleration`] for any dimension and pair storage.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn acceleration_generic<D: Dim>(
+    pairs: impl PairRows<D>,
+    remaining: &[D::Matrix],
+    positions: &[D::Vector],
+    isochoric: &[f64],
+    inv_density: f64,
+    zeta_g_over_rho: f64,
+    acc: &mut [D::Vector],
+) {
     let list = pairs.list();
     let (p_j, x_j, iso_j) = (
         list.values(remaining),

@@ -41,6 +41,8 @@
 pub mod damping;
 pub mod ganzenmuller;
 pub mod hourglass_free;
+#[cfg(target_arch = "x86_64")]
+mod lanes;
 pub mod original;
 pub mod reference_pairs;
 pub mod solver;

@@ -40,6 +40,28 @@ pub fn stress_divergence<D: Dim>(
     inv_density: f64,
     acc: &mut [D::Vector],
 ) {
+    // 3D with stored pair data: the same sums with a vector in one AVX register.
+    #[cfg(target_arch = "x86_64")]
+    if crate::lanes::available() {
+        if let (Some((g, _)), Some(s), Some(a)) =
+            (pairs.stored(), D::as_mat3(stress), D::as_vec3_mut(acc))
+        {
+            if let Some(g) = D::as_vec3(g) {
+                crate::lanes::stress_divergence(pairs.list(), g, s, inv_density, a);
+                return;
+            }
+        }
+    }
+    stress_divergence_generic(pairs, stress, inv_density, acc);
+}
+
+/// [`stress_divergence`] for any dimension and pair storage.
+pub(crate) fn stress_divergence_generic<D: Dim>(
+    pairs: impl PairRows<D>,
+    stress: &[D::Matrix],
+    inv_density: f64,
+    acc: &mut [D::Vector],
+) {
     let stress_j = pairs.list().values(stress);
     gather(
         acc,
@@ -57,6 +79,31 @@ pub fn stress_divergence<D: Dim>(
 
 /// Eq 22: `Ḟ_i = (Σ_j (v_j − v_i) ⊗ V_j ∇⁰_i W_ij) B_i`, written into `f_dot`.
 pub fn deformation_rate<D: Dim>(
+    pairs: impl PairRows<D>,
+    correction: &[D::Matrix],
+    velocities: &[D::Vector],
+    f_dot: &mut [D::Matrix],
+) {
+    // 3D with stored pair data: the same sums with a vector in one AVX register.
+    #[cfg(target_arch = "x86_64")]
+    if crate::lanes::available() {
+        if let (Some((g, _)), Some(b), Some(v), Some(fd)) = (
+            pairs.stored(),
+            D::as_mat3(correction),
+            D::as_vec3(velocities),
+            D::as_mat3_mut(f_dot),
+        ) {
+            if let Some(g) = D::as_vec3(g) {
+                crate::lanes::deformation_rate(pairs.list(), g, b, v, fd);
+                return;
+            }
+        }
+    }
+    deformation_rate_generic(pairs, correction, velocities, f_dot);
+}
+
+/// [`deformation_rate`] for any dimension and pair storage.
+pub(crate) fn deformation_rate_generic<D: Dim>(
     pairs: impl PairRows<D>,
     correction: &[D::Matrix],
     velocities: &[D::Vector],

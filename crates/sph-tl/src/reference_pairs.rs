@@ -233,6 +233,12 @@ pub trait PairRows<D: Dim>: Copy + Send + Sync {
     /// list order: the variant's pair scalar (HF and GM only; plain TL has none and reads
     /// [`PairRows::fold_gradient`]).
     fn fold<A>(&self, i: usize, init: A, f: impl FnMut(A, usize, D::Vector, f64) -> A) -> A;
+
+    /// The stored gradients and pair scalars (empty for plain TL), one per list slot, when the
+    /// data are stored ([`StoredRows`]); `None` when they are recomputed.
+    fn stored(&self) -> Option<(&[D::Vector], &[f64])> {
+        None
+    }
 }
 
 /// Stored pair data (see [`PairStorage::Stored`]).
@@ -252,6 +258,10 @@ impl<D: Dim> Copy for StoredRows<'_, D> {}
 impl<D: Dim> PairRows<D> for StoredRows<'_, D> {
     fn list(&self) -> &NeighborList {
         self.list
+    }
+
+    fn stored(&self) -> Option<(&[D::Vector], &[f64])> {
+        Some((self.gradient, self.scalar))
     }
 
     #[inline(always)]

@@ -226,4 +226,15 @@ impl<T: Copy> NeighbourValues<'_, T> {
         // SAFETY: j < values.len() by the caller's contract.
         unsafe { *self.values.get_unchecked(j) }
     }
+
+    /// The value of particle `j` by reference (for a vector load of it).
+    ///
+    /// # Safety
+    /// As [`NeighbourValues::at`].
+    #[inline(always)]
+    pub unsafe fn get(&self, j: usize) -> &T {
+        debug_assert!(j < self.values.len(), "neighbour index {j} out of range");
+        // SAFETY: j < values.len() by the caller's contract.
+        unsafe { self.values.get_unchecked(j) }
+    }
 }
