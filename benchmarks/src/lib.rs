@@ -205,6 +205,37 @@ pub fn machine() -> String {
     format!("{cpu}, {cores} hardware threads")
 }
 
+/// Checks a benchmark binary's arguments: each must be one of `flags`, each followed by its
+/// value. `--help` or `-h` prints `usage` and exits; anything else is an error naming the
+/// argument and the flags allowed (exit status 2), before any work.
+pub fn check_flags(args: &[String], flags: &[&str], usage: &str) {
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        println!("{usage}");
+        std::process::exit(0);
+    }
+    if let Err(message) = flags_error(args, flags) {
+        eprintln!("error: {message}\n{usage}");
+        std::process::exit(2);
+    }
+}
+
+/// The error of [`check_flags`], if any.
+fn flags_error(args: &[String], flags: &[&str]) -> Result<(), String> {
+    let mut rest = args.iter();
+    while let Some(a) = rest.next() {
+        if !flags.contains(&a.as_str()) {
+            return Err(format!(
+                "unknown argument {a:?}: the flags are {}",
+                flags.join(", ")
+            ));
+        }
+        if rest.next().is_none() {
+            return Err(format!("{a} needs a value"));
+        }
+    }
+    Ok(())
+}
+
 /// The commit of the checkout at `root`, `+changes` appended when its tracked files differ
 /// from it ("unknown" outside a git checkout): the build a timing or a count was made with.
 pub fn build_name(root: &Path) -> String {
@@ -256,6 +287,22 @@ pub const EARLIER_MACHINE: &str = "AMD EPYC, 2 hardware threads";
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn flags_are_checked() {
+        let args = |a: &[&str]| a.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let flags = ["--sph", "--end"];
+        assert!(super::flags_error(&args(&[]), &flags).is_ok());
+        assert!(super::flags_error(&args(&["--end", "0.1", "--sph", "x"]), &flags).is_ok());
+        let e = super::flags_error(&args(&["--ends", "0.1"]), &flags).unwrap_err();
+        assert!(
+            e.contains("\"--ends\"") && e.contains("--sph, --end"),
+            "{e}"
+        );
+        let e = super::flags_error(&args(&["--end"]), &flags).unwrap_err();
+        assert!(e.contains("--end needs a value"), "{e}");
+        assert!(super::flags_error(&args(&["0.1"]), &flags).is_err());
+    }
+
     use super::*;
 
     #[test]

@@ -209,6 +209,11 @@ fn interleaved(dir: &Path, sph: &Path, repeats: usize, scratch: &Path, root: &Pa
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    sph_benchmarks::check_flags(
+        &args,
+        &["--repeats", "--only", "--sphinxsys"],
+        "usage: case-timings [--repeats N] [--only GROUP] [--sphinxsys DIR]",
+    );
     let repeats: usize = match args.iter().position(|a| a == "--repeats") {
         None => 3,
         Some(k) => match args.get(k + 1).and_then(|v| v.parse().ok()) {

@@ -149,6 +149,11 @@ fn loop_name(name: &str) -> String {
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    sph_benchmarks::check_flags(
+        &args,
+        &["--sph", "--build", "--end"],
+        "usage: instructions [--sph PATH] [--build NAME] [--end SECONDS]",
+    );
     let exe = std::env::current_exe().expect("own path");
     let root = exe
         .ancestors()
@@ -157,7 +162,14 @@ fn main() {
         .unwrap_or_else(|| PathBuf::from("."));
     let sph = flag(&args, "--sph").map_or_else(|| exe.with_file_name("sph"), PathBuf::from);
     let build = flag(&args, "--build").unwrap_or_else(|| sph_benchmarks::build_name(&root));
-    let end: f64 = flag(&args, "--end").map_or(0.02, |v| v.parse().expect("--end: seconds"));
+    let end: f64 = match flag(&args, "--end").map(|v| v.parse::<f64>()) {
+        None => 0.02,
+        Some(Ok(e)) if e > 0.0 && e.is_finite() => e,
+        Some(_) => {
+            eprintln!("error: --end: simulated seconds, a number > 0");
+            std::process::exit(2);
+        }
+    };
     if !sph.exists() {
         eprintln!(
             "error: {} not found: build it first (cargo build --release -p sph-cases --bin sph)",
