@@ -377,6 +377,35 @@ pub(crate) fn threads_section(md: &mut String) {
          from 3.69 / 3.88 / 4.11 to 4.80 / 4.08 / 4.27 (three alternated runs), because each \
          pair then adds three dependent operations to the accumulator's chain instead of one; \
          the loops are not bound by the number of floating-point operations.\n\n\
+         **The 3D TL pair loops with a vector in one register (2026-12-03, sixth session).** \
+         The twisting column's one-thread row stayed below 2.5× in every measurement (2.44 in \
+         the quiet window, 2.31 and 2.39 in the same rounds as SPHinXsys). Its two main loops, \
+         the HF acceleration (49 % of the one-thread time) and the deformation rate (29 %), \
+         were compiled from glam's `DVec3` and `DMat3` arithmetic into two-lane SSE plus scalar \
+         operations with shuffles between them, about 40 instructions per pair for the HF \
+         acceleration. `sph_tl::lanes` writes the 3D loops over stored pair data (the HF \
+         acceleration, the stress divergence of plain TL and GM, the deformation rate) with a \
+         vector, or a matrix column, in one AVX register whose fourth lane is zero (a masked \
+         load, which never reads past the third component). Every lane does the glam code's \
+         operations in the same order, without fused multiply-adds, so the results are the \
+         same bits: a unit test compares each loop with the generic one, and the results files \
+         of the 16 scenes and of six 3D TL scenes (the bending column with TL, TL-HF and TL-GM, \
+         the pulling cylinder, the stent, the twisting column) are equal, every dataset and \
+         every summary value. They run in the AVX2 copy of the loops; 2D, recomputed pair data \
+         and the plain x86-64 copy keep the generic loops. Instructions, the twisting column to \
+         t = 0.02 s (the table below, build db7fd51 against c4aa48f): 5.1894·10⁹ → \
+         4.0730·10⁹ (−21.5 %), the HF acceleration 2.693·10⁹ → 1.833·10⁹ and the deformation \
+         rate 1.389·10⁹ → 1.133·10⁹. Time, as samples of each loop over those of the stress \
+         update (which did not change), the column to t = 0.1 s on one thread with the monitor \
+         off, the two builds alternated three times: the HF acceleration 4.32 / 4.42 / 4.52 → \
+         3.22 / 3.36 / 3.20, the deformation rate 2.69 / 2.68 / 2.61 → 2.25 / 2.50 / 2.28, the \
+         whole run 8.66 / 8.79 / 8.78 → 7.09 / 7.53 / 7.14 (−17 %). Beside SPHinXsys in the same \
+         rounds (build 294ce2d, the physics of db7fd51; the host less loaded than earlier that \
+         day, SPHinXsys 1.2–1.5× its quiet times), median of three rounds: the twisting \
+         column 3.34 (3.28–3.50) on one thread and 2.94 (2.74–3.10) on two; the TL plate 4.48 \
+         and 2.92; the default UL plate 2.58 (2.49–2.80) and 2.00 (1.95–2.19); with the kernel \
+         data frozen 3.89 (3.43–4.06) and 3.02 (2.89–3.13). So the UL plate's default row on \
+         two threads is the one left below 2.5×.\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
