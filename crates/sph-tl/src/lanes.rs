@@ -70,6 +70,23 @@ fn vector(v: &DVec3) -> __m256d {
     unsafe { load3(v as *const DVec3 as *const f64) }
 }
 
+/// `(A + B) g` for the columns of `A` and `B`, as glam computes `(a + b) * g`: the sum column
+/// by column, then the x column times `g_x`, plus the y column times `g_y`, plus the z column
+/// times `g_z` (`DMat3::mul_vec3`).
+#[inline]
+#[target_feature(enable = "avx2,fma")]
+fn pair_sum_times(a: [__m256d; 3], b: [__m256d; 3], g: &DVec3) -> __m256d {
+    let mut m = _mm256_mul_pd(_mm256_add_pd(a[0], b[0]), _mm256_set1_pd(g.x));
+    m = _mm256_add_pd(
+        m,
+        _mm256_mul_pd(_mm256_add_pd(a[1], b[1]), _mm256_set1_pd(g.y)),
+    );
+    _mm256_add_pd(
+        m,
+        _mm256_mul_pd(_mm256_add_pd(a[2], b[2]), _mm256_set1_pd(g.z)),
+    )
+}
+
 /// The two sums of [`crate::hourglass_free::acceleration`] for particle `i`:
 /// `Σ_j (P_i + P_j) g_ij` and `Σ_j (x_i − x_j) (J_i^(−2/3) + J_j^(−2/3)) s_ij` over the row's
 /// slots (`gradient`, `scalar`, `neighbours`).
@@ -92,7 +109,7 @@ unsafe fn hf_row(
     x_i: &DVec3,
     iso_i: f64,
 ) -> (DVec3, DVec3) {
-    let [pi0, pi1, pi2] = columns(p_i);
+    let pi = columns(p_i);
     let xi = vector(x_i);
     let mut div = _mm256_setzero_pd();
     let mut shear = _mm256_setzero_pd();
@@ -100,18 +117,7 @@ unsafe fn hf_row(
         let j = j as usize;
         // SAFETY: `j` is an index of the list that made the views (the caller's contract).
         let (p, x, iso) = unsafe { (p_j.get(j), x_j.get(j), iso_j.at(j)) };
-        let [c0, c1, c2] = columns(p);
-        // (P_i + P_j) g as glam's `mul_vec3`: x column, plus y column, plus z column.
-        let mut m = _mm256_mul_pd(_mm256_add_pd(pi0, c0), _mm256_set1_pd(g.x));
-        m = _mm256_add_pd(
-            m,
-            _mm256_mul_pd(_mm256_add_pd(pi1, c1), _mm256_set1_pd(g.y)),
-        );
-        m = _mm256_add_pd(
-            m,
-            _mm256_mul_pd(_mm256_add_pd(pi2, c2), _mm256_set1_pd(g.z)),
-        );
-        div = _mm256_add_pd(div, m);
+        div = _mm256_add_pd(div, pair_sum_times(pi, columns(p), g));
         let w = (iso_i + iso) * s;
         shear = _mm256_add_pd(
             shear,
@@ -182,21 +188,12 @@ unsafe fn divergence_row(
     s_j: NeighbourValues<'_, DMat3>,
     s_i: &DMat3,
 ) -> DVec3 {
-    let [si0, si1, si2] = columns(s_i);
+    let si = columns(s_i);
     let mut sum = _mm256_setzero_pd();
     for (g, &j) in gradient.iter().zip(neighbours) {
         // SAFETY: `j` is an index of the list that made the view (the caller's contract).
-        let [c0, c1, c2] = columns(unsafe { s_j.get(j as usize) });
-        let mut m = _mm256_mul_pd(_mm256_add_pd(si0, c0), _mm256_set1_pd(g.x));
-        m = _mm256_add_pd(
-            m,
-            _mm256_mul_pd(_mm256_add_pd(si1, c1), _mm256_set1_pd(g.y)),
-        );
-        m = _mm256_add_pd(
-            m,
-            _mm256_mul_pd(_mm256_add_pd(si2, c2), _mm256_set1_pd(g.z)),
-        );
-        sum = _mm256_add_pd(sum, m);
+        let sj = columns(unsafe { s_j.get(j as usize) });
+        sum = _mm256_add_pd(sum, pair_sum_times(si, sj, g));
     }
     store3(sum)
 }
