@@ -49,7 +49,8 @@ pub fn remaining_piola<D: Dim, M: Material<D>>(
 /// `a_i = (1/ρ0) Σ_j (P_r,i + P_r,j) V_j ∇⁰_i W_ij
 ///      + (ζ G/ρ0) Σ_j (J_i^(−2/d) + J_j^(−2/d)) x_ij V_j W′(r⁰_ij)/r⁰_ij`,
 /// with `V_j ∇⁰_i W_ij` and `V_j W′(r⁰_ij)/r⁰_ij` from `pairs`. Fusing the two sums reads each
-/// neighbour once.
+/// neighbour once. In 3D with stored pair data, where the loops run their AVX2 copy, the sums
+/// are taken with a vector in one AVX register (module `lanes`; the same bits).
 #[allow(clippy::too_many_arguments)]
 pub fn acceleration<D: Dim>(
     pairs: impl PairRows<D>,
@@ -97,6 +98,18 @@ pub fn acceleration<D: Dim>(
     );
 }
 
+/// Eq 29 from its two pair sums: `a_i = div/ρ0 + (ζ G/ρ0) shear`, with `div = Σ_j (P_r,i +
+/// P_r,j) V_j ∇⁰_i W_ij` and `shear = Σ_j (J_i^(−2/d) + J_j^(−2/d)) x_ij V_j W′/r⁰`.
+#[inline(always)]
+pub(crate) fn acceleration_from_sums<D: Dim>(
+    div: D::Vector,
+    shear: D::Vector,
+    inv_density: f64,
+    zeta_g_over_rho: f64,
+) -> D::Vector {
+    div * inv_density + shear * zeta_g_over_rho
+}
+
 /// [`acceleration`] for any dimension and pair storage.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn acceleration_generic<D: Dim>(
@@ -128,7 +141,7 @@ pub(crate) fn acceleration_generic<D: Dim>(
                         shear + (xi - x_j) * ((ji + iso_j) * s),
                     )
                 });
-            *a = div * inv_density + shear * zeta_g_over_rho;
+            *a = acceleration_from_sums::<D>(div, shear, inv_density, zeta_g_over_rho);
         },
     );
 }

@@ -170,7 +170,12 @@ pub(crate) fn hf_acceleration(
                     isochoric[i],
                 )
             };
-            *a = div * inv_density + shear * zeta_g_over_rho;
+            *a = crate::hourglass_free::acceleration_from_sums::<sph_core::dim::D3>(
+                div,
+                shear,
+                inv_density,
+                zeta_g_over_rho,
+            );
         },
     );
 }

@@ -34,6 +34,8 @@ pub(crate) fn nan_matrix<D: Dim>() -> D::Matrix {
 
 /// Eq 20: `a_i = (1/ρ0) Σ_j (S_i + S_j) (V_j ∇⁰_i W_ij)` for per-particle matrices `S`
 /// (`P B ᵀ` for the original form, `P_r` for HF), written into `acc`.
+/// In 3D with stored pair data, where the loops run their AVX2 copy, the sum is taken with a
+/// vector in one AVX register (module `lanes`; the same bits).
 pub fn stress_divergence<D: Dim>(
     pairs: impl PairRows<D>,
     stress: &[D::Matrix],
@@ -78,6 +80,8 @@ pub(crate) fn stress_divergence_generic<D: Dim>(
 }
 
 /// Eq 22: `Ḟ_i = (Σ_j (v_j − v_i) ⊗ V_j ∇⁰_i W_ij) B_i`, written into `f_dot`.
+/// In 3D with stored pair data, where the loops run their AVX2 copy, the sum is taken with a
+/// vector in one AVX register (module `lanes`; the same bits).
 pub fn deformation_rate<D: Dim>(
     pairs: impl PairRows<D>,
     correction: &[D::Matrix],
