@@ -145,7 +145,12 @@ pub(crate) fn hf_acceleration(
     zeta_g_over_rho: f64,
     acc: &mut [DVec3],
 ) {
-    assert!(available(), "the AVX2 loops need a CPU with AVX2 and FMA");
+    // What the loops need is the CPU's (another thread may switch the AVX2 copy off meanwhile;
+    // the results are the same bits on either copy).
+    assert!(
+        sph_core::wide::cpu_has_avx2_fma(),
+        "the AVX loops need a CPU with AVX2 and FMA"
+    );
     assert!(gradient.len() == list.num_pairs() && scalar.len() == list.num_pairs());
     let views = (
         list.values(remaining),
@@ -215,7 +220,12 @@ pub(crate) fn stress_divergence(
     inv_density: f64,
     acc: &mut [DVec3],
 ) {
-    assert!(available(), "the AVX2 loops need a CPU with AVX2 and FMA");
+    // What the loops need is the CPU's (another thread may switch the AVX2 copy off meanwhile;
+    // the results are the same bits on either copy).
+    assert!(
+        sph_core::wide::cpu_has_avx2_fma(),
+        "the AVX loops need a CPU with AVX2 and FMA"
+    );
     assert_eq!(gradient.len(), list.num_pairs());
     let s_j = list.values(stress);
     gather(
@@ -269,7 +279,12 @@ pub(crate) fn deformation_rate(
     velocities: &[DVec3],
     f_dot: &mut [DMat3],
 ) {
-    assert!(available(), "the AVX2 loops need a CPU with AVX2 and FMA");
+    // What the loops need is the CPU's (another thread may switch the AVX2 copy off meanwhile;
+    // the results are the same bits on either copy).
+    assert!(
+        sph_core::wide::cpu_has_avx2_fma(),
+        "the AVX loops need a CPU with AVX2 and FMA"
+    );
     assert_eq!(gradient.len(), list.num_pairs());
     let v_j = list.values(velocities);
     gather(
