@@ -190,18 +190,42 @@ impl BenchRecord {
 /// The machine timings are taken on: the CPU model of `/proc/cpuinfo` and the hardware thread
 /// count, e.g. "Intel(R) Xeon(R) Processor, 2 hardware threads". Recorded with every timing,
 /// because a ratio of two wall times means something only when both were taken on the same
-/// machine.
+/// machine. See [`machine_from`].
 pub fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|s| s.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
+    let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    machine_from(&cpuinfo, cores)
+}
+
+/// [`machine`] from the text of `/proc/cpuinfo` and the thread count. A virtual machine may name
+/// its CPU without a generation ("AMD EPYC", "Intel(R) Xeon(R) Processor"); such a name (one
+/// without a digit) gets the CPU family and model numbers too, because two machines of that
+/// name can differ by half in speed (SPHinXsys's TL plate on one thread: 21.3 s on the AMD
+/// EPYC the performance issue was filed on, 14.7 s on an AMD EPYC of family 26 on
+/// 2026-12-03).
+///
+/// # Example
+/// ```
+/// let info = "model name\t: AMD EPYC\ncpu family\t: 26\nmodel\t\t: 2\n";
+/// assert_eq!(
+///     sph_benchmarks::machine_from(info, 2),
+///     "AMD EPYC family 26 model 2, 2 hardware threads"
+/// );
+/// ```
+pub fn machine_from(cpuinfo: &str, cores: usize) -> String {
+    let field = |key: &str| {
+        cpuinfo
+            .lines()
+            .find(|l| l.split(':').next().map(str::trim) == Some(key))
+            .and_then(|l| l.split(':').nth(1))
+            .map(|s| s.trim().to_string())
+    };
+    let mut cpu = field("model name").unwrap_or_else(|| "unknown CPU".into());
+    if !cpu.chars().any(|c| c.is_ascii_digit()) {
+        if let (Some(family), Some(model)) = (field("cpu family"), field("model")) {
+            cpu = format!("{cpu} family {family} model {model}");
+        }
+    }
     format!("{cpu}, {cores} hardware threads")
 }
 
