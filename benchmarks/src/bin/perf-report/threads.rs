@@ -406,6 +406,35 @@ pub(crate) fn threads_section(md: &mut String) {
          and 2.92; the default UL plate 2.58 (2.49–2.80) and 2.00 (1.95–2.19); with the kernel \
          data frozen 3.89 (3.43–4.06) and 3.02 (2.89–3.13). So the UL plate's default row on \
          two threads is the one left below 2.5×.\n\n\
+         **A second machine kind, and one more rewrite that did not pay (2026-12-03, seventh \
+         session).** The session ran on an AMD EPYC of CPU family 26 (a virtual machine that \
+         names its CPU only \"AMD EPYC\"), not the AMD EPYC of the team's record: SPHinXsys's TL \
+         plate took 11.2 s on one thread there, against 21.3 s recorded. `sph_benchmarks::machine` \
+         now adds the family and model to a CPU name without a generation, so the rows of this \
+         machine stand beside SPHinXsys timed on it (built from 9f33297 as for the Intel rows). \
+         In a quiet window (nothing else running; build c22b88d, the physics of db7fd51), median \
+         of three: TL plate 2.53 / 1.45 s on one / two threads against SPHinXsys's 11.19 / \
+         6.09 s (4.42 / 4.20×); UL-ENOG plate 11.73 / 6.55 s against 31.34 / 16.79 s (2.67 / \
+         2.56×); with the kernel data frozen 8.60 / 4.76 s (3.64 / 3.53×); twisting column 4.25 \
+         / 2.34 s against 18.30 / 8.29 s (4.31 / 3.55×). In the hour before, in rounds with \
+         SPHinXsys (the same-rounds table), the medians were 4.61 / 4.37, 2.69 / 2.65, 3.72 / \
+         3.41 and 4.72 / 3.78; three more rounds of the UL plate on two threads right after the \
+         quiet window gave 2.29, 2.37 and 2.59 (ours 6.97–7.54 s, SPHinXsys 17.1–18.1 s). So on \
+         this machine every anchor row is at or above 2.5×, the default UL plate on two threads \
+         only just: its two-thread runs move by 10–20 % from one run to the next on this host \
+         (ten alternated runs to t = 0.25 s: refreshed 2.15–3.52 s, frozen 1.43–2.07 s; one \
+         thread 3.62–3.94 and 2.65–2.72 s; no steal time counted by the kernel). On one thread \
+         the UL plate's fused refresh and force gather take 52 % of the samples, the rate \
+         gather 19 %, the neighbour search 7 %, the pair halves of each new list 3 %, the \
+         correction matrices of each rebuild 1.3 % plus 2.3 % in libm's `atan2`, `hypot` and \
+         `sincos` (the 2×2 eigen-decomposition of the guarded inverse). Tried and dropped: the \
+         refresh filled row by row, each row's computed slots, then its copies from their \
+         mirrors (all in earlier rows of the block), then its force sum at once, so each \
+         record is read back from the first-level cache instead of the second (the same bits: \
+         4,187 datasets of nine UL scenes equal); the fused loop's samples over the rate \
+         gather's went from 2.73 / 2.88 / 2.66 to 3.04 / 3.12 / 2.99 (one thread, to t = \
+         0.25 s, alternated), and the one-thread wall time did not move (3.54–3.85 s against \
+         3.42–3.75 s, four runs each).\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \

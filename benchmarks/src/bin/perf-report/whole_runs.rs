@@ -243,7 +243,8 @@ pub(crate) fn case_timings_section(md: &mut String, root: &Path) {
                  `W′` from the current positions in every acoustic sub-step (docs/methods.md: \
                  frozen over the advection step they soften the plate secularly, its period \
                  0.278 → 0.363 s over 10 s in docs/validation.md's long run), which costs \
-                 1.34–1.39× the frozen sub-step (the UL stepping table above). SPHinXsys's test \
+                 1.33–1.49× the frozen sub-step in 2D and 1.72× in the 3D plate (the UL \
+                 stepping table above). SPHinXsys's test \
                  updates them with the neighbour list only, once per advection step. The row \
                  \"kernel data frozen\" runs that same scheme (`--set \
                  refresh_kernel_data=false`), so its ratio compares the two implementations of \
