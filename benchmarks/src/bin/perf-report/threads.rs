@@ -422,9 +422,13 @@ pub(crate) fn threads_section(md: &mut String) {
          quiet window gave 2.29, 2.37 and 2.59 (ours 6.97–7.54 s, SPHinXsys 17.1–18.1 s). So on \
          this machine every anchor row is at or above 2.5×, the default UL plate on two threads \
          only just: its two-thread runs move by 10–20 % from one run to the next on this host \
-         (ten alternated runs to t = 0.25 s: refreshed 2.15–3.52 s, frozen 1.43–2.07 s; one \
-         thread 3.62–3.94 and 2.65–2.72 s; no steal time counted by the kernel). On one thread \
-         the UL plate's fused refresh and force gather take 52 % of the samples, the rate \
+         (`sph run oscillating-plate-2d --method ul-enog --set h_over_dp=1.3 --set \
+         end_time=0.25 --no-output --threads N`, with and without `--set \
+         refresh_kernel_data=false`, alternated, nothing else running: two threads, nine runs \
+         each, refreshed 2.15–3.52 s and frozen 1.43–2.07 s; one thread, three runs each, \
+         3.62–3.94 and 2.65–2.72 s; no steal time counted by the kernel). On one thread (`perf \
+         record -e cpu-clock` of that command; shares of the samples, taken while a build ran \
+         on the other core) the UL plate's fused refresh and force gather take 52 %, the rate \
          gather 19 %, the neighbour search 7 %, the pair halves of each new list 3 %, the \
          correction matrices of each rebuild 1.3 % plus 2.3 % in libm's `atan2`, `hypot` and \
          `sincos` (the 2×2 eigen-decomposition of the guarded inverse). Tried and dropped: the \
@@ -432,9 +436,10 @@ pub(crate) fn threads_section(md: &mut String) {
          mirrors (all in earlier rows of the block), then its force sum at once, so each \
          record is read back from the first-level cache instead of the second (the same bits: \
          4,187 datasets of nine UL scenes equal); the fused loop's samples over the rate \
-         gather's went from 2.73 / 2.88 / 2.66 to 3.04 / 3.12 / 2.99 (one thread, to t = \
-         0.25 s, alternated), and the one-thread wall time did not move (3.54–3.85 s against \
-         3.42–3.75 s, four runs each).\n\n\
+         gather's went from 2.73 / 2.88 / 2.66 to 3.04 / 3.12 / 2.99 (`perf record` of the \
+         command above on one thread, the builds alternated, nothing else running), and the \
+         one-thread wall time did not move (3.42–3.75 s row by row, 3.54–3.85 s before; four \
+         alternated runs each).\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
