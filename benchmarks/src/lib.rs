@@ -201,7 +201,7 @@ pub fn machine() -> String {
 /// its CPU without a generation ("AMD EPYC", "Intel(R) Xeon(R) Processor"); such a name (one
 /// without a digit) gets the CPU family and model numbers too, because two machines of that
 /// name can differ by half in speed (SPHinXsys's TL plate on one thread: 21.3 s on the AMD
-/// EPYC the performance issue was filed on, 14.7 s on an AMD EPYC of family 26 on
+/// EPYC the performance issue was filed on, 11.2 s on an AMD EPYC of family 26 on
 /// 2026-12-03).
 ///
 /// # Example
