@@ -139,13 +139,30 @@ pub fn read_mean(
     Some(e.mean)
 }
 
+/// One benchmark's mean as recorded: criterion's estimate and the machine it was measured on.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+pub struct Recorded {
+    /// Criterion's mean.
+    #[serde(flatten)]
+    pub estimate: Estimate,
+    /// [`machine`] of the measurement; entries recorded before the field have
+    /// [`EARLIER_MACHINE`].
+    #[serde(default = "earlier_machine")]
+    pub machine: String,
+}
+
+fn earlier_machine() -> String {
+    EARLIER_MACHINE.to_string()
+}
+
 /// The committed record of criterion means, `benchmarks/results/criterion.json`, so that
 /// `perf-report` regenerates every table after `target/` has been cleaned. A benchmark's mean
 /// comes from criterion's own results when they are present (the latest measurement on this
-/// machine) and is recorded; otherwise from the record.
+/// machine: `target/` does not move between machines) and is recorded with [`machine`];
+/// otherwise from the record, with the machine recorded there.
 #[derive(Debug, Default)]
 pub struct BenchRecord {
-    entries: BTreeMap<String, Estimate>,
+    entries: BTreeMap<String, Recorded>,
 }
 
 impl BenchRecord {
@@ -158,21 +175,25 @@ impl BenchRecord {
         Self { entries }
     }
 
-    /// The mean of one benchmark: criterion's result under `criterion_dir` if present (then
-    /// recorded), else the recorded one.
+    /// The mean of one benchmark and its machine: criterion's result under `criterion_dir` if
+    /// present (then recorded with this machine), else the recorded one.
     pub fn mean(
         &mut self,
         criterion_dir: &Path,
         group: &str,
         function: &str,
         param: &str,
-    ) -> Option<Estimate> {
+    ) -> Option<Recorded> {
         let key = format!("{group}/{function}/{param}");
-        if let Some(e) = read_mean(criterion_dir, group, function, param) {
-            self.entries.insert(key, e);
-            return Some(e);
+        if let Some(estimate) = read_mean(criterion_dir, group, function, param) {
+            let recorded = Recorded {
+                estimate,
+                machine: machine(),
+            };
+            self.entries.insert(key, recorded.clone());
+            return Some(recorded);
         }
-        self.entries.get(&key).copied()
+        self.entries.get(&key).cloned()
     }
 
     /// Writes the record to `path` (a temporary file, then a rename).
@@ -367,12 +388,37 @@ mod tests {
         // The record keeps what criterion measured after its results are gone.
         let record_path = dir.join("record.json");
         let mut record = BenchRecord::load(&record_path);
-        assert_eq!(record.mean(&dir, "g/x", "f", "1-thread"), Some(e));
+        let recorded = Recorded {
+            estimate: e,
+            machine: machine(),
+        };
+        assert_eq!(
+            record.mean(&dir, "g/x", "f", "1-thread"),
+            Some(recorded.clone())
+        );
         record.save(&record_path).unwrap();
         std::fs::remove_dir_all(dir.join("g_x")).unwrap();
         let mut again = BenchRecord::load(&record_path);
-        assert_eq!(again.mean(&dir, "g/x", "f", "1-thread"), Some(e));
+        assert_eq!(again.mean(&dir, "g/x", "f", "1-thread"), Some(recorded));
         assert_eq!(again.mean(&dir, "g/x", "f", "2-thread"), None);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn entries_recorded_before_the_machine_field_name_the_earlier_machine() {
+        let dir = std::env::temp_dir().join(format!("sph-bench-old-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let record_path = dir.join("record.json");
+        std::fs::write(
+            &record_path,
+            r#"{"g/f/1": {"point_estimate": 5.0, "confidence_interval": {"lower_bound": 4.0, "upper_bound": 6.0}}}"#,
+        )
+        .unwrap();
+        let got = BenchRecord::load(&record_path)
+            .mean(&dir, "g", "f", "1")
+            .unwrap();
+        assert_eq!(got.estimate.point_estimate, 5.0);
+        assert_eq!(got.machine, EARLIER_MACHINE);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

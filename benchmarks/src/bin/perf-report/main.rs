@@ -11,7 +11,7 @@
 //! Benchmarks that have not been run are listed as missing rather than invented.
 
 use sph_benchmarks::{
-    BenchRecord, MPS_BENCH_GROUP, MPS_BENCH_RESOLUTIONS, NEIGHBOR_BENCH, TL_BENCH_GROUP,
+    BenchRecord, Recorded, MPS_BENCH_GROUP, MPS_BENCH_RESOLUTIONS, NEIGHBOR_BENCH, TL_BENCH_GROUP,
     TL_BENCH_METHODS, TL_BENCH_RESOLUTIONS,
 };
 use std::fmt::Write as _;
@@ -81,7 +81,7 @@ fn distributed_section(md: &mut String) {
 }
 
 /// A benchmark's mean by group, function and parameter ([`BenchRecord::mean`]).
-type Mean<'a> = dyn FnMut(&str, &str, &str) -> Option<sph_benchmarks::Estimate> + 'a;
+type Mean<'a> = dyn FnMut(&str, &str, &str) -> Option<sph_benchmarks::Recorded> + 'a;
 
 fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -101,11 +101,10 @@ fn header(md: &mut String) {
     .unwrap();
     writeln!(
         md,
-        "Machines: the criterion tables were measured on {} (the machine of the last `cargo \
-         bench`; their result files predate the machine field); the UL stepping and whole-run \
-         tables name the machine of each row, and a ratio to SPHinXsys is given only beside a \
+        "Machines: every table names the machine of each row (criterion means recorded before \
+         they carried their machine: {}), and a ratio to SPHinXsys is given only beside a \
          SPHinXsys time measured on the same machine.\n",
-        sph_benchmarks::EARLIER_MACHINE
+        short_machine(sph_benchmarks::EARLIER_MACHINE)
     )
     .unwrap();
 }
@@ -128,16 +127,19 @@ fn neighbor_section(md: &mut String, mean: &mut Mean<'_>) {
     .unwrap();
     writeln!(
         md,
-        "| search | threads | time per build (ms) | 95 % CI (ms) | particles/s | speed-up vs 1 thread |"
+        "| search | threads | time per build (ms) | 95 % CI (ms) | particles/s | speed-up vs 1 thread | machine |"
     )
     .unwrap();
-    writeln!(md, "|---|---|---|---|---|---|").unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|").unwrap();
     for function in ["cell-list", "cell-list-sorted", "kd-tree"] {
-        let one = mean(spec.group, function, "1-thread");
+        let one = mean(spec.group, function, "1-thread").map(|o| o.estimate);
         for threads in [1, 2] {
             let param = format!("{threads}-thread");
             match mean(spec.group, function, &param) {
-                Some(e) => {
+                Some(Recorded {
+                    estimate: e,
+                    machine,
+                }) => {
                     let ms = e.point_estimate * 1e-6;
                     let rate = n as f64 / (e.point_estimate * 1e-9);
                     let speedup = one
@@ -145,13 +147,14 @@ fn neighbor_section(md: &mut String, mean: &mut Mean<'_>) {
                         .unwrap_or_else(|| "–".into());
                     writeln!(
                         md,
-                        "| {function} | {threads} | {ms:.2} | {:.2}–{:.2} | {rate:.3e} | {speedup} |",
+                        "| {function} | {threads} | {ms:.2} | {:.2}–{:.2} | {rate:.3e} | {speedup} | {} |",
                         e.confidence_interval.lower_bound * 1e-6,
-                        e.confidence_interval.upper_bound * 1e-6
+                        e.confidence_interval.upper_bound * 1e-6,
+                        short_machine(&machine)
                     )
                     .unwrap();
                 }
-                None => writeln!(md, "| {function} | {threads} | not run | | | |").unwrap(),
+                None => writeln!(md, "| {function} | {threads} | not run | | | | |").unwrap(),
             }
         }
     }
@@ -171,10 +174,10 @@ fn tl_section(md: &mut String, mean: &mut Mean<'_>) {
     .unwrap();
     writeln!(
         md,
-        "| H/dp | particles | threads | method | time per step (ms) | particle-steps/s | HF/TL |"
+        "| H/dp | particles | threads | method | time per step (ms) | particle-steps/s | HF/TL | machine |"
     )
     .unwrap();
-    writeln!(md, "|---|---|---|---|---|---|---|").unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|---|").unwrap();
     for res in TL_BENCH_RESOLUTIONS {
         let n = (res * res * (6 * res + 3)) as f64;
         for threads in [1, 2] {
@@ -185,10 +188,13 @@ fn tl_section(md: &mut String, mean: &mut Mean<'_>) {
                     &res.to_string(),
                 )
             };
-            let tl = get("tl");
+            let tl = get("tl").map(|t| t.estimate);
             for method in TL_BENCH_METHODS {
                 match get(method) {
-                    Some(e) => {
+                    Some(Recorded {
+                        estimate: e,
+                        machine,
+                    }) => {
                         let ratio = if method == "tl-hf" {
                             tl.map(|t| format!("{:.3}", e.point_estimate / t.point_estimate))
                                 .unwrap_or_else(|| "–".into())
@@ -197,13 +203,14 @@ fn tl_section(md: &mut String, mean: &mut Mean<'_>) {
                         };
                         writeln!(
                             md,
-                            "| {res} | {n} | {threads} | {method} | {:.3} | {:.3e} | {ratio} |",
+                            "| {res} | {n} | {threads} | {method} | {:.3} | {:.3e} | {ratio} | {} |",
                             e.point_estimate * 1e-6,
-                            n / (e.point_estimate * 1e-9)
+                            n / (e.point_estimate * 1e-9),
+                            short_machine(&machine)
                         )
                         .unwrap();
                     }
-                    None => writeln!(md, "| {res} | {n} | {threads} | {method} | not run | | |")
+                    None => writeln!(md, "| {res} | {n} | {threads} | {method} | not run | | | |")
                         .unwrap(),
                 }
             }
@@ -229,10 +236,10 @@ fn mps_section(md: &mut String, mean: &mut Mean<'_>) {
     .unwrap();
     writeln!(
         md,
-        "| H/dp | threads | method | time per step (ms) | particle-steps/s |"
+        "| H/dp | threads | method | time per step (ms) | particle-steps/s | machine |"
     )
     .unwrap();
-    writeln!(md, "|---|---|---|---|---|").unwrap();
+    writeln!(md, "|---|---|---|---|---|---|").unwrap();
     for res in MPS_BENCH_RESOLUTIONS {
         for threads in [1, 2] {
             for method in ["mps", "tl-hf"] {
@@ -248,14 +255,18 @@ fn mps_section(md: &mut String, mean: &mut Mean<'_>) {
                 .map(|(set, _)| set.len() as f64)
                 .unwrap_or(f64::NAN);
                 match e {
-                    Some(e) => writeln!(
+                    Some(Recorded {
+                        estimate: e,
+                        machine,
+                    }) => writeln!(
                         md,
-                        "| {res} | {threads} | {method} | {:.3} | {:.3e} |",
+                        "| {res} | {threads} | {method} | {:.3} | {:.3e} | {} |",
                         e.point_estimate * 1e-6,
-                        n / (e.point_estimate * 1e-9)
+                        n / (e.point_estimate * 1e-9),
+                        short_machine(&machine)
                     )
                     .unwrap(),
-                    None => writeln!(md, "| {res} | {threads} | {method} | not run | |").unwrap(),
+                    None => writeln!(md, "| {res} | {threads} | {method} | not run | | |").unwrap(),
                 }
             }
         }
