@@ -41,17 +41,49 @@ fn run(case: &str, sets: &[String]) -> Result<Value, String> {
     }))
 }
 
+const USAGE: &str = "usage: ul-stepping [--fine] [--end-2d SECONDS] [--end-3d SECONDS] \
+                     (defaults: 0.1 s in 2D, 0.01 s in 3D)";
+
+/// The run's choices from the command line: `(fine, end time 2D, end time 3D)`; an unknown
+/// flag, a missing value or an end time that is not a positive finite number is an error
+/// naming it.
+fn parse_args(args: &[String]) -> Result<(bool, f64, f64), String> {
+    let (mut fine, mut end2d, mut end3d) = (false, 0.1, 0.01);
+    let mut rest = args.iter();
+    while let Some(flag) = rest.next() {
+        let end = match flag.as_str() {
+            "--fine" => {
+                fine = true;
+                continue;
+            }
+            "--end-2d" => &mut end2d,
+            "--end-3d" => &mut end3d,
+            other => {
+                return Err(format!(
+                    "unknown argument {other:?}: the flags are --fine, --end-2d, --end-3d"
+                ))
+            }
+        };
+        let value = rest.next().ok_or_else(|| format!("{flag} needs a value"))?;
+        *end = value
+            .parse::<f64>()
+            .ok()
+            .filter(|t| t.is_finite() && *t > 0.0)
+            .ok_or_else(|| format!("{flag} must be a positive number of seconds, got {value:?}"))?;
+    }
+    Ok((fine, end2d, end3d))
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let value_of = |flag: &str, default: f64| -> f64 {
-        args.iter()
-            .position(|a| a == flag)
-            .and_then(|k| args.get(k + 1))
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(default)
-    };
-    let fine = args.iter().any(|a| a == "--fine");
-    let (end2d, end3d) = (value_of("--end-2d", 0.1), value_of("--end-3d", 0.01));
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        println!("{USAGE}");
+        return;
+    }
+    let (fine, end2d, end3d) = parse_args(&args).unwrap_or_else(|message| {
+        eprintln!("error: {message}\n{USAGE}");
+        std::process::exit(2);
+    });
     let mut scenes: Vec<(String, &str, Vec<String>)> = [10, 20, 30]
         .iter()
         .map(|r| {
@@ -121,4 +153,32 @@ fn main() {
     .expect("write results");
     std::fs::rename(&tmp, &path).expect("rename results");
     println!("wrote {}", path.display());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_args;
+
+    fn args(a: &[&str]) -> Vec<String> {
+        a.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn defaults_flags_and_errors() {
+        assert_eq!(parse_args(&[]), Ok((false, 0.1, 0.01)));
+        assert_eq!(
+            parse_args(&args(&["--end-3d", "0.02", "--fine", "--end-2d", "1"])),
+            Ok((true, 1.0, 0.02))
+        );
+        for (bad, names) in [
+            (&["--end-2d", "abc"][..], "--end-2d"),
+            (&["--end-3d", "-1"][..], "--end-3d"),
+            (&["--end-2d", "inf"][..], "--end-2d"),
+            (&["--end-2d"][..], "--end-2d needs a value"),
+            (&["--fin"][..], "\"--fin\""),
+        ] {
+            let e = parse_args(&args(bad)).unwrap_err();
+            assert!(e.contains(names), "{bad:?}: {e}");
+        }
+    }
 }
