@@ -440,6 +440,25 @@ pub(crate) fn threads_section(md: &mut String) {
          command above on one thread, the builds alternated, nothing else running), and the \
          one-thread wall time did not move (3.42–3.75 s row by row, 3.54–3.85 s before; four \
          alternated runs each).\n\n\
+         **The bending column's second thread, and a refresh without divisions (2026-12-03, \
+         eighth session).** Same machine (AMD EPYC family 26). The criterion benches were run \
+         there (`cargo bench -p sph-benchmarks --bench tl_step`, then `neighbor_search` and \
+         `mps_step`; nothing else running), and each criterion mean now carries its machine (the \
+         tables above). The 84,672-particle bending column goes from one thread to two 1.92× \
+         (TL), 1.96× (TL-HF) and 1.93× (TL-GM); the old table of the earlier AMD EPYC had \
+         TL-GM at 1.76×. Where the UL plate's fused loop spends its time on one thread (`perf \
+         annotate` of the command of the paragraph above, nothing else running): the computed \
+         pairs of the refresh 41 % of its samples, the copies to the mirrored slots 10 %, the \
+         force sums 46 %; so the refresh is about 27 % of the one-thread run and the force \
+         gather 24 %. The computed pairs spend their samples on the kernel polynomial right \
+         after the square root and on the division `d/r`, so the loop was rebuilt without the \
+         divider (a measurement build, not kept): `1/r` from an integer first guess and four \
+         Newton steps, `r = r² · (1/r)` and `e = d · (1/r)` (round-off changes, the same step \
+         counts). It was slower: one thread to t = 0.25 s, 3.32–3.67 s before and 4.13–4.47 s \
+         without divisions (four alternated runs each). So the loop is not bound by the \
+         divider's throughput: a longer chain of multiplications per pair costs more than the \
+         division and square root it replaces (the four-pair AVX batches of the paragraph on \
+         the refresh pointed the same way).\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
