@@ -457,8 +457,19 @@ pub(crate) fn threads_section(md: &mut String) {
          counts). It was slower: one thread to t = 0.25 s, 3.32–3.67 s before and 4.13–4.47 s \
          without divisions (four alternated runs each). So the loop is not bound by the \
          divider's throughput: a longer chain of multiplications per pair costs more than the \
-         division and square root it replaces (the four-pair AVX batches of the paragraph on \
-         the refresh pointed the same way).\n\n\
+         division and square root it replaces. Nor did four pairs at a time help on this \
+         machine (measurement builds, not kept): the four square roots and the divisions `d/r` \
+         in AVX registers, the kernel polynomial per pair (the same bits), took 3.98–4.22 s \
+         against 3.43–3.59 s; the same four pairs written lane by lane in plain Rust, which \
+         LLVM did not vectorise (it kept the lanes on the stack and branched on `q ≥ 2`), \
+         3.27–3.32 s against 3.19–3.29 s (three alternated runs each), as the AVX batches of \
+         the paragraph on the refresh found on the Intel Xeon. Per-thread profile of the same \
+         run on two threads (`perf record -e cpu-clock`, 1.998 s): the fused loop 24.5 / \
+         22.9 % of the samples (stepping thread / helper), the rate gather 8.5 / 8.0 %, the \
+         neighbour search 4.1 / 3.6 %, the helper spinning 8.4 % and the stepping thread \
+         waiting 3.6 %, the stepping thread's work outside the parallel loops 4.3 % (the \
+         largest pieces: the list's components and assembly 0.9 %, the cell grid 0.4 %, \
+         libm's `atan2`, `sincos` and `hypot` 0.8 %).\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
