@@ -469,7 +469,13 @@ pub(crate) fn threads_section(md: &mut String) {
          neighbour search 4.1 / 3.6 %, the helper spinning 8.4 % and the stepping thread \
          waiting 3.6 %, the stepping thread's work outside the parallel loops 4.3 % (the \
          largest pieces: the list's components and assembly 0.9 %, the cell grid 0.4 %, \
-         libm's `atan2`, `sincos` and `hypot` 0.8 %).\n\n\
+         libm's `atan2`, `sincos` and `hypot` 0.8 %). The memory, extreme-scene and impact rows \
+         of the whole-run tables were timed on this machine too (`case-timings --only memory`, \
+         then `extreme` and `impacts`, `--repeats 3`, nothing else running; same physics as \
+         db7fd51): 3D TL-HF at 107,484 particles keeps 2.50 KiB per particle with stored pair \
+         data and 0.84 KiB recomputed, the recomputed run taking 2.82× the stored one's time \
+         (2.44× on the earlier AMD EPYC); system time is at most 3.2 % of user time on every \
+         row.\n\n\
          **Between the loops.** A step is a handful of parallel loops of 10–50 µs. On the \
          rayon pool every loop woke a worker, which after the loop called `sched_yield` about \
          thirty times and then slept on a futex: the TL plate to t = 1 s on two threads made \
