@@ -309,6 +309,11 @@ impl<D: Dim> ToolMotion<D> {
         self.direction
     }
 
+    /// The speed after the ramp (m/s).
+    pub fn speed(&self) -> f64 {
+        self.speed
+    }
+
     /// Distance travelled by time `t` before the stop (no clamping).
     fn free_distance(&self, t: f64) -> f64 {
         let (v, tr) = (self.speed, self.ramp_time);
