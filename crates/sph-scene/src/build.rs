@@ -40,9 +40,16 @@ pub struct SceneError {
 
 impl std::fmt::Display for SceneError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        // A file name with a newline or other control character is shown escaped: an error
+        // stays one line.
+        let file = if self.file.chars().any(char::is_control) {
+            format!("{:?}", self.file)
+        } else {
+            self.file.clone()
+        };
         match self.line {
-            Some(l) => write!(f, "{}:{l}: {}: {}", self.file, self.key, self.message),
-            None => write!(f, "{}: {}: {}", self.file, self.key, self.message),
+            Some(l) => write!(f, "{file}:{l}: {}: {}", self.key, self.message),
+            None => write!(f, "{file}: {}: {}", self.key, self.message),
         }
     }
 }

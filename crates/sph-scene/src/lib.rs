@@ -66,6 +66,10 @@
 //! MPS: `re_over_l0`, `courant`, `damping`, `integrator`. Every value defaults to the library's
 //! default (`TlParams::default()` etc.).
 //!
+//! Names (of the scene, which names the results file `<name>-<method>.h5`, and of bodies,
+//! constraints, tools and probes, which name HDF5 groups) are names, not paths: 1 to 128 bytes
+//! without `/`, `\`, control characters, and not `.` or `..`; each unique in its kind.
+//!
 //! Methods: a TL method runs one body (rigid parts are tools); UL and MPS run any number of
 //! bodies, which meet through the method's body–body contact. A key a method cannot honour is
 //! an error. Errors name the file, the line and the key.
