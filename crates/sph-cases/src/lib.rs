@@ -8,6 +8,7 @@
 
 pub mod analysis;
 pub mod cases;
+pub mod converge;
 pub mod error;
 #[cfg(feature = "mpi")]
 pub mod mpi_ranks;

@@ -25,6 +25,8 @@
 
 use serde::{Deserialize, Serialize};
 
+pub mod ladder;
+
 /// Safety factor of a verified asymptotic ladder (Roache; Eça & Hoekstra).
 pub const SAFETY_VERIFIED: f64 = 1.25;
 /// Safety factor when the order is not confirmed (two or three levels, an order outside the
