@@ -17,6 +17,8 @@ pub mod preflight;
 pub mod process;
 pub mod runner;
 
+/// Error estimates from a resolution ladder (`sph-driver`'s; `sph converge`).
+pub use sph_driver::convergence;
 /// The checks and estimates made before a run (`sph-driver`'s).
 pub use sph_driver::guard;
 
