@@ -50,6 +50,7 @@ fn without_step_limit(set: &[String]) -> Vec<String> {
         .collect()
 }
 
+pub mod advice_data;
 mod catalogue;
 mod estimates;
 mod report;

@@ -6,6 +6,7 @@
 //! its end time, writes HDF5 results through `sph-output`, and returns the summary figures.
 #![deny(missing_docs)]
 
+pub mod advise;
 pub mod analysis;
 pub mod cases;
 pub mod converge;

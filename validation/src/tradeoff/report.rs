@@ -35,6 +35,9 @@ pub fn report(root: &Path) -> Result<(), String> {
         any |= pareto_section(&mut md, &scene, &fig_dir)?;
     }
     any |= estimates::section(&mut md);
+    let data = advice_data::path(root);
+    std::fs::write(&data, advice_data::text()).map_err(|e| format!("{}: {e}", data.display()))?;
+    println!("wrote {}", data.display());
     writeln!(md, "## Stability at the extremes\n").unwrap();
     writeln!(
         md,
@@ -178,29 +181,17 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
         scene.resolution_key
     )
     .unwrap();
+    let stored = advice_data::stored_scene(scene);
     for tol in [0.01, 0.03, 0.10] {
-        let within = |p: &Point| p.error.is_some_and(|e| e.abs() <= tol);
-        let best = usable
-            .iter()
-            .filter(|p| {
-                within(p)
-                    && points
-                        .iter()
-                        .filter(|q| {
-                            q.line == p.line && spacing(scene, q.res) < spacing(scene, p.res)
-                        })
-                        .all(within)
-            })
-            .min_by(|a, b| a.cpu.total_cmp(&b.cpu));
-        match best {
+        match stored.cheapest(tol) {
             Some(p) => writeln!(
                 md,
                 "| {:.0} % | {} | {} | {:.2} | {:.3e} |",
                 tol * 100.0,
                 p.line,
-                fmt_value(p.res),
-                p.cpu,
-                p.work
+                fmt_value(p.resolution),
+                p.cpu_seconds,
+                p.work.unwrap_or(f64::NAN)
             )
             .unwrap(),
             None => writeln!(
