@@ -251,6 +251,23 @@ fn spacing(scene: &Scene, res: f64) -> f64 {
     }
 }
 
+/// Every stored run of `scene` (each line at each resolution of either list, its settings
+/// those of the scene), line by line, coarse to fine within a line as listed.
+fn stored_runs(scene: &Scene) -> Vec<(&Line, f64, CostedRun)> {
+    let mut res: Vec<f64> = scene.quick.iter().chain(scene.full).copied().collect();
+    res.sort_by(f64::total_cmp);
+    res.dedup();
+    scene
+        .lines
+        .iter()
+        .flat_map(|l| res.iter().map(move |&r| (l, r)))
+        .filter_map(|(l, r)| {
+            let run = crate::cost::load(&scene_run_id(scene, l, r))?;
+            (run.set == scene_set(scene, l, r)).then_some((l, r, run))
+        })
+        .collect()
+}
+
 /// The refinement value of a spacing (the inverse of [`spacing`]).
 fn spacing_inverse(scene: &Scene, h: f64) -> f64 {
     if scene.resolution_key == "dp" {

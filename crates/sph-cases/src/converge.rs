@@ -268,29 +268,46 @@ impl Runner {
     /// [`FASTEST_PARTICLE_STEPS_PER_CPU_SECOND`] (a lower bound of its CPU time) and its
     /// memory estimate. `None` if the dry run gives none.
     pub fn predict(&self, subject: &Subject, r: &Refinement, value: f64) -> Option<Prediction> {
-        let mut args = self.args(subject, r, value);
-        args.extend(["--dry-run".into(), "--no-output".into()]);
-        // A dry run prints its estimates (`key  value` lines) and writes nothing.
-        let out = std::process::Command::new(&self.program)
-            .args(&args)
-            .stderr(std::process::Stdio::null())
-            .output()
-            .ok()?;
-        if !out.status.success() {
-            return None;
-        }
-        let text = String::from_utf8_lossy(&out.stdout);
-        let number = |key: &str| {
-            text.lines()
-                .find_map(|l| l.strip_prefix(key))
-                .and_then(|v| v.trim().parse::<f64>().ok())
-        };
+        let d = dry_run(&self.program, &self.args(subject, r, value))?;
         Some(Prediction {
             resolution: value,
-            cpu_seconds: number("particle_steps_estimate")? / FASTEST_PARTICLE_STEPS_PER_CPU_SECOND,
-            peak_bytes: number("memory_bytes_estimate")?,
+            cpu_seconds: d.particle_steps / FASTEST_PARTICLE_STEPS_PER_CPU_SECOND,
+            peak_bytes: d.memory_bytes,
         })
     }
+}
+
+/// What a dry run estimates of a run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DryRun {
+    /// Particle-steps (UL: acoustic sub-steps).
+    pub particle_steps: f64,
+    /// Peak memory, bytes.
+    pub memory_bytes: f64,
+}
+
+/// The estimates of `program run_args… --dry-run --no-output` (which prints them as
+/// `key  value` lines, and writes nothing); `None` if the dry run fails.
+pub fn dry_run(program: &Path, run_args: &[String]) -> Option<DryRun> {
+    let out = std::process::Command::new(program)
+        .args(run_args)
+        .args(["--dry-run", "--no-output"])
+        .stderr(std::process::Stdio::null())
+        .output()
+        .ok()?;
+    if !out.status.success() {
+        return None;
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    let number = |key: &str| {
+        text.lines()
+            .find_map(|l| l.strip_prefix(key))
+            .and_then(|v| v.trim().parse::<f64>().ok())
+    };
+    Some(DryRun {
+        particle_steps: number("particle_steps_estimate")?,
+        memory_bytes: number("memory_bytes_estimate")?,
+    })
 }
 
 /// Runs the ladder of `subject` (see the module documentation). An interruption of a level

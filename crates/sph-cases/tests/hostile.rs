@@ -7,7 +7,6 @@
 //!
 //! Runs that could hang are waited for with a cap (a hang guard, not a timing assertion).
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -18,93 +17,11 @@ use hostile_inputs::*;
 
 // ------------------------------------------------------------------------------------ helpers
 
-struct Run {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-}
-
-/// Runs `sph args` in `dir` with the environment `env`, waiting at most two minutes.
-fn sph_env(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_sph"));
-    c.args(args).current_dir(dir).envs(env.iter().copied());
-    finish(
-        c.stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap(),
-    )
-}
-
-fn sph(dir: &Path, args: &[&str]) -> Run {
-    sph_env(dir, args, &[])
-}
-
-/// Waits for `child` (two minutes at most: a hang guard) and collects its output.
-fn finish(mut child: Child) -> Run {
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > Duration::from_secs(120) {
-            let _ = child.kill();
-            panic!("sph hung (killed after 120 s)");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    let out = child.wait_with_output().unwrap();
-    Run {
-        code: out.status.code(),
-        stdout: String::from_utf8_lossy(&out.stdout).into(),
-        stderr: String::from_utf8_lossy(&out.stderr).into(),
-    }
-}
+mod common;
+use common::{assert_refused, finish, listing, sph, sph_env, with, PLATE};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("sph-hostile-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// What a directory holds (recursively): name → kind and, for small regular files, content.
-/// Never opens a FIFO or device, never reads a large file.
-fn listing(dir: &Path) -> BTreeMap<String, String> {
-    let mut m = BTreeMap::new();
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return m;
-    };
-    for e in entries {
-        let e = e.unwrap();
-        let name = e.file_name().to_string_lossy().into_owned();
-        let meta = std::fs::symlink_metadata(e.path()).unwrap();
-        let t = meta.file_type();
-        let what = if t.is_symlink() {
-            format!("link {}", std::fs::read_link(e.path()).unwrap().display())
-        } else if t.is_dir() {
-            for (k, v) in listing(&e.path()) {
-                m.insert(format!("{name}/{k}"), v);
-            }
-            "dir".into()
-        } else if t.is_file() && meta.len() < 1 << 20 {
-            format!("file {:?}", std::fs::read(e.path()).unwrap())
-        } else {
-            format!("special or large, {} bytes", meta.len())
-        };
-        m.insert(name, what);
-    }
-    m
-}
-
-/// Exit status 2, one line on stderr containing `needle`, nothing on stdout, no panic.
-fn assert_refused(r: &Run, needle: &str, what: &str) {
-    assert_eq!(r.code, Some(2), "{what}: {}", r.stderr);
-    assert!(!r.stderr.contains("panicked"), "{what}: {}", r.stderr);
-    assert_eq!(r.stderr.trim().lines().count(), 1, "{what}: {}", r.stderr);
-    assert!(
-        r.stderr.contains(needle),
-        "{what}: `{needle}` not in {}",
-        r.stderr
-    );
-    assert!(r.stdout.is_empty(), "{what}: {}", r.stdout);
+    common::scratch("hostile", name)
 }
 
 /// The named scene with `edits` (text → replacement) applied, every placeholder filled.
@@ -127,20 +44,6 @@ fn scene(edits: &[(&str, &str)]) -> String {
         s = s.replace(slot, default);
     }
     s
-}
-
-/// A small TL plate run (about a second).
-const PLATE: &[&str] = &[
-    "run",
-    "oscillating-plate-2d",
-    "--method",
-    "tl",
-    "--set",
-    "resolution=4",
-];
-
-fn with<'a>(base: &[&'a str], more: &[&'a str]) -> Vec<&'a str> {
-    base.iter().chain(more).copied().collect()
 }
 
 #[cfg(unix)]

@@ -11,9 +11,8 @@
 //! Waits for a background run poll for its files with a generous cap (a hang guard, not a
 //! timing assertion).
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
 #[path = "inputs/checkpoint.rs"]
@@ -34,86 +33,15 @@ use reliability_doc::render_doc;
 
 // ------------------------------------------------------------------------------------ helpers
 
-struct Run {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-}
+mod common;
+use common::{assert_refused, finish, listing, spawn, with, Run, PLATE};
 
-fn finished(out: Output) -> Run {
-    Run {
-        code: out.status.code(),
-        stdout: String::from_utf8_lossy(&out.stdout).into(),
-        stderr: String::from_utf8_lossy(&out.stderr).into(),
-    }
-}
-
-/// Runs `sph args` in `dir`.
 fn sph(dir: &Path, args: &[&str]) -> Run {
-    finished(
-        Command::new(env!("CARGO_BIN_EXE_sph"))
-            .args(args)
-            .current_dir(dir)
-            .output()
-            .expect("run sph"),
-    )
-}
-
-fn spawn(dir: &Path, args: &[&str]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_sph"))
-        .args(args)
-        .current_dir(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn sph")
+    common::sph(dir, args)
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("sph-robust-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// What a directory holds (recursively): name → kind and content, to prove nothing changed.
-fn listing(dir: &Path) -> BTreeMap<String, String> {
-    let mut m = BTreeMap::new();
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return m;
-    };
-    for e in entries {
-        let e = e.unwrap();
-        let name = e.file_name().to_string_lossy().into_owned();
-        let t = std::fs::symlink_metadata(e.path()).unwrap().file_type();
-        let what = if t.is_symlink() {
-            format!("link {}", std::fs::read_link(e.path()).unwrap().display())
-        } else if t.is_dir() {
-            for (k, v) in listing(&e.path()) {
-                m.insert(format!("{name}/{k}"), v);
-            }
-            "dir".into()
-        } else if t.is_file() {
-            format!("file {:?}", std::fs::read(e.path()).unwrap())
-        } else {
-            "special".into()
-        };
-        m.insert(name, what);
-    }
-    m
-}
-
-/// Exit status 2, one line on stderr containing `needle`, nothing on stdout, no panic.
-fn assert_refused(r: &Run, needle: &str, what: &str) {
-    assert_eq!(r.code, Some(2), "{what}: {}", r.stderr);
-    assert!(!r.stderr.contains("panicked"), "{what}: {}", r.stderr);
-    assert_eq!(r.stderr.trim().lines().count(), 1, "{what}: {}", r.stderr);
-    assert!(
-        r.stderr.contains(needle),
-        "{what}: `{needle}` not in {}",
-        r.stderr
-    );
-    assert!(r.stdout.is_empty(), "{what}: {}", r.stdout);
+    common::scratch("robust", name)
 }
 
 /// Temporary or lock files anywhere under `dir`.
@@ -168,20 +96,6 @@ fn signal(child: &Child, sig: &str) {
         .expect("kill")
         .success();
     assert!(ok, "kill -{sig}");
-}
-
-/// A small TL plate run that takes a second or so (or, with a long end time, until stopped).
-const PLATE: &[&str] = &[
-    "run",
-    "oscillating-plate-2d",
-    "--method",
-    "tl",
-    "--set",
-    "resolution=4",
-];
-
-fn with<'a>(base: &[&'a str], more: &[&'a str]) -> Vec<&'a str> {
-    base.iter().chain(more).copied().collect()
 }
 
 // --------------------------------------------------------------------------------- the tests
@@ -313,7 +227,7 @@ fn a_second_run_into_the_same_results_fails_fast() {
         "second run",
     );
     signal(&first, "TERM");
-    let first = finished(first.wait_with_output().unwrap());
+    let first = finish(first);
     assert_eq!(first.code, Some(143), "{}", first.stderr);
     let file = sph_output::read_file(dir.join("out/oscillating-plate-2d-tl.h5")).unwrap();
     let xmf = std::fs::read_to_string(dir.join("out/oscillating-plate-2d-tl.xmf")).unwrap();
@@ -484,7 +398,7 @@ fn sigint_and_sigterm_finish_the_step_and_complete_the_results() {
         );
         wait_until_writing(&dir.join("out"), &child);
         signal(&child, sig);
-        let r = finished(child.wait_with_output().unwrap());
+        let r = finish(child);
         assert_eq!(r.code, Some(code), "{}", r.stderr);
         assert_eq!(r.stderr.trim().lines().count(), 1, "{}", r.stderr);
         assert!(r.stderr.contains(&format!("({name})")), "{}", r.stderr);
@@ -570,7 +484,7 @@ fn a_closed_stdout_is_not_an_error() {
     for &(what, args) in CLOSED_PIPES {
         let mut child = spawn(&dir, args);
         drop(child.stdout.take());
-        let r = finished(child.wait_with_output().unwrap());
+        let r = finish(child);
         assert_eq!(r.code, Some(0), "{what}: {}", r.stderr);
         assert!(r.stderr.is_empty(), "{what}: {}", r.stderr);
     }

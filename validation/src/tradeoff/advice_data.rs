@@ -7,19 +7,10 @@ use sph_cases::advise::{StoredRun, StoredScene, TradeoffData};
 /// The stored runs of `scene` (every line and resolution with a stored run, failed ones with
 /// no error), as `sph advise` uses them.
 pub(super) fn stored_scene(scene: &Scene) -> StoredScene {
-    let mut res: Vec<f64> = scene.quick.iter().chain(scene.full).copied().collect();
-    res.sort_by(f64::total_cmp);
-    res.dedup();
     let (kind, dimension) =
         sph_cases::advise::class_of(scene.case).expect("every trade-off case has a class");
-    let runs = scene
-        .lines
-        .iter()
-        .flat_map(|l| res.iter().map(move |&r| (l, r)))
-        .filter_map(|(l, r)| {
-            let run = crate::cost::load(&scene_run_id(scene, l, r))?;
-            (run.set == scene_set(scene, l, r)).then_some((l, r, run))
-        })
+    let runs = stored_runs(scene)
+        .into_iter()
         .map(|(l, r, run)| StoredRun {
             line: l.label.into(),
             method: l.method.into(),

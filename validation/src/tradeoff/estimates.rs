@@ -29,20 +29,15 @@ struct Ladder {
 fn ladders(factors: &Factors) -> Vec<Ladder> {
     let mut out = Vec::new();
     for scene in scenes() {
-        let mut res: Vec<f64> = scene.quick.iter().chain(scene.full).copied().collect();
-        res.sort_by(f64::total_cmp);
-        res.dedup();
+        let runs = stored_runs(&scene);
         for line in &scene.lines {
             // (spacing, value relative to the reference = 1 + signed error), coarse to fine.
-            let mut pts: Vec<(f64, f64, f64)> = res
+            let mut pts: Vec<(f64, f64, f64)> = runs
                 .iter()
-                .filter_map(|&r| {
-                    let run = crate::cost::load(&scene_run_id(&scene, line, r))?;
-                    if run.set != scene_set(&scene, line, r) || run.exit_code != 0 {
-                        return None;
-                    }
-                    let e = value_of(&run, scene.measure, line.method)?;
-                    e.is_finite().then_some((spacing(&scene, r), 1.0 + e, r))
+                .filter(|(l, _, run)| l.label == line.label && run.exit_code == 0)
+                .filter_map(|(_, r, run)| {
+                    let e = value_of(run, scene.measure, line.method)?;
+                    e.is_finite().then_some((spacing(&scene, *r), 1.0 + e, *r))
                 })
                 .collect();
             pts.sort_by(|a, b| b.0.total_cmp(&a.0));

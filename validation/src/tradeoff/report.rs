@@ -89,19 +89,7 @@ pub fn report(root: &Path) -> Result<(), String> {
 }
 
 fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool, String> {
-    // Every stored resolution of either list.
-    let mut res: Vec<f64> = scene.quick.iter().chain(scene.full).copied().collect();
-    res.sort_by(f64::total_cmp);
-    res.dedup();
-    let runs: Vec<(&Line, f64, CostedRun)> = scene
-        .lines
-        .iter()
-        .flat_map(|l| res.iter().map(move |&r| (l, r)))
-        .filter_map(|(l, r)| {
-            let run = crate::cost::load(&scene_run_id(scene, l, r))?;
-            (run.set == scene_set(scene, l, r)).then_some((l, r, run))
-        })
-        .collect();
+    let runs = stored_runs(scene);
     if runs.is_empty() {
         return Ok(false);
     }

@@ -66,6 +66,7 @@ pub(super) fn advise_command(a: AdviseArgs) -> Result<ExitCode, CaseError> {
 fn predict(a: &AdviseArgs, advice: &Advice, r: &sph_cases::advise::StoredRun) -> Option<f64> {
     let data = stored();
     let scene = data.scenes.iter().find(|s| s.key == advice.scene)?;
+    let program = std::env::current_exe().ok()?;
     let work = |case: &str, set: &[String]| -> Option<f64> {
         let mut args: Vec<String> = vec![
             "run".into(),
@@ -79,23 +80,8 @@ fn predict(a: &AdviseArgs, advice: &Advice, r: &sph_cases::advise::StoredRun) ->
         args.extend([
             "--set".into(),
             format!("{}={}", advice.resolution_key, Value::Float(r.resolution)),
-            "--dry-run".into(),
-            "--no-output".into(),
         ]);
-        let out = std::process::Command::new(std::env::current_exe().ok()?)
-            .args(&args)
-            .stderr(std::process::Stdio::null())
-            .output()
-            .ok()?;
-        if !out.status.success() {
-            return None;
-        }
-        String::from_utf8_lossy(&out.stdout)
-            .lines()
-            .find_map(|l| l.strip_prefix("particle_steps_estimate"))?
-            .trim()
-            .parse()
-            .ok()
+        Some(sph_cases::converge::dry_run(&program, &args)?.particle_steps)
     };
     let stored_work = work(&scene.case, &scene.fixed)?;
     let this_work = work(&a.case, &a.set)?;
