@@ -16,6 +16,10 @@
 // Per-axis loops index several small arrays at once; iterator chains would obscure them.
 #![allow(clippy::needless_range_loop)]
 
+/// glam, whose f64 vectors and matrices (`DVec2`, `DVec3`, `DMat2`, `DMat3`) every API here
+/// takes: `use sph_core::glam::DVec2;` needs no glam dependency of your own.
+pub use glam;
+
 pub mod body;
 pub mod budget;
 pub mod comm;

@@ -42,6 +42,10 @@
 //! ```
 #![deny(missing_docs)]
 
+/// glam, whose f64 vectors and matrices (`DVec2`, `DVec3`, `DMat2`, `DMat3`) every API here
+/// takes: `use sph_mps::glam::DVec2;` needs no glam dependency of your own.
+pub use glam;
+
 pub mod contact;
 pub mod pressure;
 pub mod solver;

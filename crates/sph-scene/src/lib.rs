@@ -71,6 +71,10 @@
 //! an error. Errors name the file, the line and the key.
 #![deny(missing_docs)]
 
+/// glam, whose f64 vectors and matrices (`DVec2`, `DVec3`, `DMat2`, `DMat3`) every API here
+/// takes: `use sph_scene::glam::DVec2;` needs no glam dependency of your own.
+pub use glam;
+
 mod build;
 pub mod spec;
 
