@@ -3,7 +3,7 @@
 //! The geometry of particles that every sph-solids method shares: the spatial dimension as a type
 //! ([`dim`]), smoothing kernels ([`kernel`]), neighbour search ([`neighbor`]), per-pair kernel data
 //! ([`pairs`]), the kernel-gradient correction matrix ([`correction`]), particle generators
-//! ([`generate`]), constraints, forces and probes a scene attaches ([`scene`]), rigid tools with
+//! ([`generate`]), constraints, loads, amplitude curves ([`amplitude`]) and probes a scene attaches ([`scene`]), rigid tools with
 //! frictionless contact ([`tool`]), quasi-static relaxation ([`relaxation`]), the particle
 //! disorder indicator ([`disorder`]), the [`solver::Solver`] trait, the instruction set the loops
 //! run with ([`wide`]), and what a distributed run
@@ -20,6 +20,7 @@
 /// takes: `use sph_core::glam::DVec2;` needs no glam dependency of your own.
 pub use glam;
 
+pub mod amplitude;
 pub mod body;
 pub mod budget;
 pub mod comm;
@@ -35,14 +36,17 @@ pub mod kernel;
 pub mod neighbor;
 pub mod pairs;
 pub mod parallel;
+pub mod pressure;
 pub mod relaxation;
 pub mod scene;
 pub mod solver;
 pub mod state;
+pub mod surface;
 pub mod team;
 pub mod tool;
 pub mod wide;
 
+pub use amplitude::Amplitude;
 pub use body::Body;
 pub use dim::{Dim, D2, D3};
 pub use error::Error;

@@ -2,6 +2,7 @@
 //! Each method applies them at the point of its scheme its paper prescribes; a scene that
 //! attaches none pays nothing for them.
 
+use crate::amplitude::Amplitude;
 use crate::dim::Dim;
 use crate::error::{check_positive, Error};
 use crate::kernel::Kernel;
@@ -19,6 +20,11 @@ impl<D: Dim> TimeFunction<D> {
     /// A constant value.
     pub fn constant(v: D::Vector) -> Self {
         Self::new(move |_| v)
+    }
+    /// `v · a(t)`: a magnitude and direction scaled by an amplitude curve (a grip's velocity
+    /// that starts smoothly, a force that follows a table).
+    pub fn scaled(v: D::Vector, amplitude: Amplitude) -> Self {
+        Self::new(move |t| v * amplitude.at(t))
     }
     /// Evaluates at time `t`.
     #[inline]
