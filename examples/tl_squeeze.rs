@@ -22,7 +22,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let relax = PairwiseDamping::new(PairwiseDamping::viscosity_for(1.0, 1100.0, 1e7, h))?;
     let mut solver = TlSolver::new(Body::from(set), law, TlShear::hourglass_free(), params)?
         .with_constraints(grips)
-        .with_tools(vec![RigidTool::new("punch", punch, motion)])?
+        .with_tools(vec![RigidTool::new("punch", punch, motion.clone())])?
         .with_relaxation(relax)?;
     let (record, _) = Run::until(1.25 * motion.arrival_time())
         .named("tl-squeeze")

@@ -16,6 +16,15 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             let mut columns = vec!["displacement"];
             columns.extend_from_slice(axes);
             columns.push("contacts");
+            // A tool off a straight line: its displacement vector, and the angle it turned.
+            if !t.motion.is_straight() {
+                columns.extend_from_slice(
+                    &["displacement_x", "displacement_y", "displacement_z"][..D::D],
+                );
+            }
+            if t.motion.rotation().is_some() {
+                columns.push("angle");
+            }
             series.push(Series::new(&t.name, &columns));
         }
         let pos: &[&str] = if D::D == 2 {
@@ -43,6 +52,13 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             let f = self.tool_meters[k].take_mean();
             row.extend((0..D::D).map(|c| D::component(f, c)));
             row.push(self.tool_contacts[k] as f64);
+            if !tool.motion.is_straight() {
+                let u = tool.motion.displacement(t);
+                row.extend((0..D::D).map(|c| D::component(u, c)));
+            }
+            if tool.motion.rotation().is_some() {
+                row.push(tool.motion.angle(t));
+            }
             self.series[k].push(t, &row);
         }
         let offset = self.tools.len();
