@@ -192,3 +192,113 @@ fn readers_check(files: &[PathBuf]) {
         "xdmf_readers_check.py failed:\n{text}"
     );
 }
+
+/// Issue 42: a probe samples any output field the solver offers, at every monitor sample, into
+/// `/probes/<name>/fields`; on a particle the values are the field's own there (compared with
+/// the snapshots at the times both were written, bit for bit); on a UL body, whose particles
+/// are reordered, the probe follows its particle. A field the solver lacks is refused before
+/// the run.
+#[test]
+fn probes_sample_any_output_field() {
+    let dir = scratch("probe-fields");
+    let body = Body::from(plate(1e-3));
+    let corner = DVec2::new(0.0005, 0.0005);
+    let at_corner = (0..body.positions.len())
+        .find(|&i| body.positions[i] == corner)
+        .unwrap() as u32;
+    let tip = Probe::at("tip", DVec2::new(0.02, 0.003), &body).unwrap();
+    let probes = vec![
+        Probe::particle("corner", at_corner).with_fields(&["von_mises", "velocity"]),
+        tip.with_fields(&["deformation_gradient", "jacobian"]),
+    ];
+    let mut tl = TlSolver::new(
+        body.clone().with_velocity(|x| DVec2::new(0.0, 5.0 * x.x)),
+        NeoHookean::new(constants()),
+        TlShear::hourglass_free(),
+        TlParams::default(),
+    )
+    .unwrap()
+    .with_probes(probes.clone(), 0.0)
+    .unwrap();
+    let (record, _) = Run::until(2e-4)
+        .write_to(dir.join("tl"))
+        .execute(&mut tl)
+        .unwrap();
+    let file = read_file(record.file.as_ref().unwrap()).unwrap();
+    let corner = &file.probes["corner"];
+    let times = corner.field("time").unwrap().as_f64().unwrap();
+    assert_eq!(times.len(), record.monitor.len());
+    let vm = corner.field("von_mises").unwrap().as_f64().unwrap();
+    let v = corner.field("velocity").unwrap();
+    assert_eq!(v.shape(), &[times.len(), 3]);
+    let mut compared = 0;
+    for snap in &file.snapshots {
+        if let Some(k) = times.iter().position(|&t| t == snap.time) {
+            let field = snap.dataset("von_mises").unwrap().as_f64().unwrap();
+            assert_eq!(vm[k].to_bits(), field[at_corner as usize].to_bits());
+            compared += 1;
+        }
+    }
+    assert_eq!(compared, 51, "every snapshot time is a monitor time");
+    let f = file.probes["tip"].field("deformation_gradient").unwrap();
+    assert_eq!(f.shape(), &[times.len(), 3, 3]);
+    assert!(f.as_f64().unwrap().iter().all(|x| x.is_finite()));
+
+    // UL reorders its particles: the probe follows the particle it was given.
+    let mut ul = UlSolver::new(
+        body.with_velocity(|x| DVec2::new(0.0, 5.0 * x.x)),
+        constants(),
+        UlShear::non_nested(),
+        UlParams::default(),
+    )
+    .unwrap()
+    .with_probes(
+        vec![Probe::particle("corner", at_corner).with_fields(&["velocity"])],
+        0.0,
+    )
+    .unwrap();
+    let (record, _) = Run::until(2e-4)
+        .write_to(dir.join("ul"))
+        .execute(&mut ul)
+        .unwrap();
+    let file = read_file(record.file.as_ref().unwrap()).unwrap();
+    let sampled = file.probes["corner"]
+        .field("velocity")
+        .unwrap()
+        .as_f64()
+        .unwrap();
+    let last = file.snapshots.last().unwrap();
+    let ids = last.dataset("id").unwrap();
+    let row = match &ids.data {
+        DatasetData::U64 { values, .. } => values.iter().position(|&i| i == u64::from(at_corner)),
+        _ => None,
+    }
+    .unwrap();
+    let v = last.dataset("velocity").unwrap().as_f64().unwrap();
+    assert_eq!(&sampled[sampled.len() - 3..], &v[3 * row..3 * row + 3]);
+
+    // A field the method does not offer: refused before anything is written.
+    let mut bad = TlSolver::new(
+        Body::from(plate(1e-3)),
+        NeoHookean::new(constants()),
+        TlShear::hourglass_free(),
+        TlParams::default(),
+    )
+    .unwrap()
+    .with_probes(
+        vec![Probe::particle("p", 0).with_fields(&["pressure"])],
+        0.0,
+    )
+    .unwrap();
+    let e = Run::until(1e-4)
+        .write_to(dir.join("bad"))
+        .execute(&mut bad)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("probe `p` field") && e.contains("von_mises"),
+        "{e}"
+    );
+    assert!(!dir.join("bad.h5").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -380,7 +380,7 @@ fn bad_checkpoints_are_refused_before_any_work() {
             }
             "version" => {
                 let mut b = good.clone();
-                b[8] = 2;
+                b[8] = 99;
                 Some(b)
             }
             "foreign" => Some(b"case = \"oscillating-plate-2d\"\n".to_vec()),

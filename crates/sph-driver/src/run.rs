@@ -170,6 +170,7 @@ pub fn drive<D: Dim>(
             allowed: "off when no results file is written".into(),
         });
     }
+    check_probe_fields(solver, comm.is_some())?;
     let estimate = crate::guard::Estimate::of(solver, &schedule, fields, options);
     estimate.check(&schedule, options)?;
     let mut record = RunRecord {
@@ -399,7 +400,7 @@ pub fn drive<D: Dim>(
     }
     if let Some(w) = writer {
         let temp = w.temp_path().to_path_buf();
-        match complete::<D>(w, solver, &summary) {
+        match complete::<D>(w, solver, &record.monitor, &summary) {
             Ok(file) => {
                 if let (Some(c), Some(base)) = (collection.filter(|_| root), &options.output) {
                     let counts = solver
@@ -591,10 +592,12 @@ fn steps_until<D: Dim>(
     }
 }
 
-/// Writes the probes, the series and the summary and finishes the file.
+/// Writes the probes (with the fields sampled at them), the series and the summary and
+/// finishes the file.
 fn complete<D: Dim>(
     mut w: Box<dyn ResultWriter>,
     solver: &dyn Solver<D>,
+    monitor: &[MonitorSample],
     summary: &Map<String, Json>,
 ) -> Result<PathBuf, sph_output::OutputError> {
     for p in solver.probes() {
@@ -609,6 +612,9 @@ fn complete<D: Dim>(
             .map(|&x| D::to_vec3(x).to_array())
             .collect();
         w.write_probe(&p.name, &p.times, &pos, &vel)?;
+    }
+    for (name, times, sets) in probe_field_datasets(solver, monitor) {
+        w.write_probe_fields(&name, &times, &sets)?;
     }
     for s in solver.series() {
         let columns: Vec<(&str, &[f64])> = s
@@ -657,7 +663,126 @@ fn sample<D: Dim>(solver: &dyn Solver<D>) -> MonitorSample {
         strain,
         budget: solver.energy_budget(),
         pieces,
+        probe_fields: sample_probe_fields(solver),
     }
+}
+
+/// The output fields the probes ask for, sampled at them (each field computed once).
+fn sample_probe_fields<D: Dim>(solver: &dyn Solver<D>) -> Vec<f64> {
+    let mut computed: Vec<(&str, Option<Field<D>>)> = Vec::new();
+    let mut out = Vec::new();
+    for p in solver.probes() {
+        for name in &p.fields {
+            let k = match computed.iter().position(|(n, _)| n == name) {
+                Some(k) => k,
+                None => {
+                    computed.push((name, solver.field(name)));
+                    computed.len() - 1
+                }
+            };
+            // Checked before the run ([`check_probe_fields`]): the solver offers it.
+            if let Some(f) = &computed[k].1 {
+                out.extend(p.sample_field(f));
+            }
+        }
+    }
+    out
+}
+
+/// Probe fields must be fields the solver offers, once per probe, and are not sampled on
+/// several ranks (the probes hold a rank's local indices, the fields the whole body).
+fn check_probe_fields<D: Dim>(
+    solver: &dyn Solver<D>,
+    distributed: bool,
+) -> Result<(), DriverError> {
+    let offered = solver.field_names();
+    for p in solver.probes() {
+        for (k, name) in p.fields.iter().enumerate() {
+            let bad = |allowed: String| DriverError::InvalidValue {
+                key: format!("probe `{}` field", p.name),
+                value: name.clone(),
+                allowed,
+            };
+            if !offered.contains(&name.as_str()) {
+                return Err(bad(format!(
+                    "a field of {}: {}",
+                    solver.method(),
+                    offered.join(", ")
+                )));
+            }
+            if p.fields[..k].contains(name) {
+                return Err(bad("each field once".into()));
+            }
+            if distributed {
+                return Err(bad(
+                    "no probe fields on more than one rank (not supported yet)".into(),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The probe fields of the monitor samples, per probe that has some: its name, the sample
+/// times and one dataset per field (`[k]`, `[k, 3]` or `[k, 3, 3]` by the field's kind).
+fn probe_field_datasets<D: Dim>(
+    solver: &dyn Solver<D>,
+    monitor: &[MonitorSample],
+) -> Vec<(String, Vec<f64>, Vec<Dataset>)> {
+    let width = |name: &str| match solver.field(name) {
+        Some(Field::Vector(_)) => 3,
+        Some(Field::Matrix(_)) => 9,
+        _ => 1,
+    };
+    let probes: Vec<_> = solver
+        .probes()
+        .iter()
+        .filter(|p| !p.fields.is_empty())
+        .map(|p| (p.name.clone(), p.fields.clone()))
+        .collect();
+    let widths: Vec<Vec<usize>> = probes
+        .iter()
+        .map(|(_, f)| f.iter().map(|n| width(n)).collect())
+        .collect();
+    let total: usize = widths.iter().flatten().sum();
+    // Samples taken with the probe fields (all of them, unless resumed from a checkpoint
+    // written before the fields were recorded).
+    let samples: Vec<&MonitorSample> = monitor
+        .iter()
+        .filter(|m| m.probe_fields.len() == total)
+        .collect();
+    let times: Vec<f64> = samples.iter().map(|m| m.time).collect();
+    let mut offset = 0;
+    let mut out = Vec::new();
+    for ((name, fields), widths) in probes.iter().zip(&widths) {
+        let mut sets = Vec::new();
+        for (field, &w) in fields.iter().zip(widths) {
+            let values: Vec<f64> = samples
+                .iter()
+                .flat_map(|m| m.probe_fields[offset..offset + w].iter().copied())
+                .collect();
+            sets.push(match w {
+                1 => Dataset::scalars(field, &values),
+                3 => Dataset::vectors(
+                    field,
+                    &values
+                        .chunks_exact(3)
+                        .map(|c| [c[0], c[1], c[2]])
+                        .collect::<Vec<_>>(),
+                ),
+                _ => Dataset::matrices(
+                    field,
+                    &values
+                        .chunks_exact(9)
+                        .map(|c| [[c[0], c[1], c[2]], [c[3], c[4], c[5]], [c[6], c[7], c[8]]])
+                        .collect::<Vec<_>>(),
+                ),
+            });
+            offset += w;
+        }
+        out.push((name.clone(), times.clone(), sets));
+    }
+    out
 }
 
 /// A run of a scene built in Rust, with the `sph` command's defaults: an end time, snapshots

@@ -10,6 +10,7 @@
 //! | `/meta` | one attribute per key of the run's metadata (see [JSON values](#json-values)) plus `json`, the whole map as a JSON string |
 //! | `/snapshots/<n>` | one group per snapshot, `n` = `000000`, `000001`, … (six digits, more only past 999 999, so the names sort lexically in time order), attributes `time` (f64) and `step` (u64), one dataset per field |
 //! | `/probes/<name>` | datasets `time` `[m]`, `position` `[m, 3]`, `velocity` `[m, 3]` (all f64) |
+//! | `/probes/<name>/fields` | output fields sampled at the probe (at the monitor times): `time` `[k]`, one dataset per field, `[k]`, `[k, 3]` or `[k, 3, 3]` |
 //! | `/series/<name>` | dataset `time` `[m]` and one f64 dataset `[m]` per column (a tool's or grip's travel and reaction force, …); since format version 2 |
 //! | `/summary` | one attribute per key of the run's summary plus `json`, the whole map as a JSON string |
 //!
@@ -151,6 +152,17 @@ pub trait ResultWriter: Send {
         times: &[f64],
         positions: &[[f64; 3]],
         velocities: &[[f64; 3]],
+    ) -> Result<(), OutputError>;
+
+    /// Writes output fields sampled at probe `name` (written before with
+    /// [`write_probe`](Self::write_probe)) as `/probes/<name>/fields/time` plus one dataset per
+    /// field: `[m]` for a scalar, `[m, 3]` for a vector, `[m, 3, 3]` for a matrix (row-major),
+    /// each with `times.len()` rows.
+    fn write_probe_fields(
+        &mut self,
+        name: &str,
+        times: &[f64],
+        fields: &[Dataset],
     ) -> Result<(), OutputError>;
 
     /// Writes series `name` as `/series/<name>/time` plus one f64 dataset per column (names

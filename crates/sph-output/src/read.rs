@@ -40,6 +40,16 @@ pub struct Probe {
     pub positions: Vec<[f64; 3]>,
     /// `velocity`, one row per time.
     pub velocities: Vec<[f64; 3]>,
+    /// `fields/*`: the output fields sampled at the probe, with their own `time` (empty when
+    /// none were asked for).
+    pub fields: Vec<Dataset>,
+}
+
+impl Probe {
+    /// The sampled field called `name` (`time` for the sample times), if any.
+    pub fn field(&self, name: &str) -> Option<&Dataset> {
+        self.fields.iter().find(|d| d.name == name)
+    }
 }
 
 /// One series read back: `time` and the columns by name.
@@ -143,10 +153,26 @@ pub fn read_file(path: impl AsRef<Path>) -> Result<FileContents, OutputError> {
         let rows = |v: Vec<f64>| -> Vec<[f64; 3]> {
             v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
         };
+        let mut fields = Vec::new();
+        if let Ok(g) = file.group(&format!("probes/{name}/fields")) {
+            let mut names = g
+                .datasets()
+                .map_err(|e| err(path, format!("list /probes/{name}/fields"), e))?;
+            names.sort();
+            for d in names {
+                fields.push(read_dataset(
+                    &file,
+                    path,
+                    &format!("probes/{name}/fields/{d}"),
+                    &d,
+                )?);
+            }
+        }
         let probe = Probe {
             times: f("time")?,
             positions: rows(f("position")?),
             velocities: rows(f("velocity")?),
+            fields,
         };
         probes.insert(name, probe);
     }

@@ -20,6 +20,10 @@ pub struct MonitorSample {
     /// Connected pieces of the particles' neighbour graph (from the field `fragment`), for
     /// methods that label them: a body that breaks apart adds pieces.
     pub pieces: Option<usize>,
+    /// The output fields sampled at the probes that ask for some ([`sph_core::Probe::fields`]):
+    /// for each such probe in order, each of its fields' components (1, 3 or 9), flattened.
+    #[serde(skip)]
+    pub probe_fields: Vec<f64>,
 }
 
 /// What a run did.
