@@ -1,8 +1,10 @@
 //! From a parsed scene to a running solver: shapes to particle sets, the material, the method,
 //! regions to constraints/loads/probes, tools, and the run through `sph-driver`.
 
+use crate::resolve::{resolve, Override, Resolved};
 use crate::spec::{
-    BodySpec, ConstraintSpec, LoadSpec, MaterialSpec, SceneSpec, ShapeSpec, ToolShapeSpec,
+    AmplitudeSpec, BodySpec, ConstraintSpec, LoadSpec, MaterialSpec, SceneSpec, ShapeSpec,
+    ToolShapeSpec, ToolSpec,
 };
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
@@ -10,13 +12,17 @@ use sph_core::generate::{
     annulus_polar, tube_polar, Aabb, Difference, FnShape, Intersection, Lattice, ParticleSet,
     Shape, Union,
 };
+use sph_core::pressure::{PressureFunction, SurfacePressure};
 use sph_core::relaxation::PairwiseDamping;
+use sph_core::surface::surface_of;
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::{
-    Body, Constraint, Constraints, Dim, Loads, Probe, Solver, TimeFunction, WendlandC2, D2, D3,
+    Amplitude, Body, Constraint, Constraints, Dim, Loads, Probe, Solver, TimeFunction, D2, D3,
 };
 use sph_driver::{drive, DriverError, RunOptions, RunRecord, Schedule};
-use sph_materials::{ElasticConstants, Material, MaterialKind, MaterialModel};
+use sph_materials::{
+    DeviatorDimension, ElasticConstants, Material, MaterialKind, MaterialModel, MooneyRivlinLike,
+};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
@@ -34,13 +40,37 @@ pub struct SceneError {
     pub key: String,
     /// What is wrong and what is allowed.
     pub message: String,
+    /// The override that gave the value, when one did (`--set material.nu=0.7`).
+    pub set_by: Option<String>,
+}
+
+impl SceneError {
+    pub(crate) fn new(
+        file: &str,
+        line: Option<usize>,
+        key: &str,
+        message: impl Into<String>,
+    ) -> Self {
+        Self {
+            file: file.into(),
+            line,
+            key: key.into(),
+            message: message.into(),
+            set_by: None,
+        }
+    }
 }
 
 impl std::fmt::Display for SceneError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let by = self
+            .set_by
+            .as_ref()
+            .map(|o| format!(" (from {o})"))
+            .unwrap_or_default();
         match self.line {
-            Some(l) => write!(f, "{}:{l}: {}: {}", self.file, self.key, self.message),
-            None => write!(f, "{}: {}: {}", self.file, self.key, self.message),
+            Some(l) => write!(f, "{}:{l}: {}{by}: {}", self.file, self.key, self.message),
+            None => write!(f, "{}: {}{by}: {}", self.file, self.key, self.message),
         }
     }
 }
@@ -51,10 +81,13 @@ impl std::error::Error for SceneError {}
 #[derive(Clone, Debug)]
 pub struct Scene {
     spec: SceneSpec,
-    text: String,
+    /// The file's text, the text after overrides and parameters, and where each part of the
+    /// latter came from.
+    source: Resolved,
     file: String,
     dir: PathBuf,
     name: String,
+    default_name: String,
 }
 
 /// Where a key sits: the span of its table and the key name inside it.
@@ -69,38 +102,61 @@ impl Scene {
     /// # Errors
     /// The file cannot be read, or it is not a valid scene (unknown keys, wrong types).
     pub fn from_file(path: impl AsRef<Path>) -> Result<Self, SceneError> {
+        Self::from_file_with(path, &[])
+    }
+
+    /// [`Scene::from_file`] with overrides (see [`Scene::parse_with`]).
+    ///
+    /// # Errors
+    /// As [`Scene::from_file`] and [`Scene::parse_with`].
+    pub fn from_file_with(
+        path: impl AsRef<Path>,
+        overrides: &[Override],
+    ) -> Result<Self, SceneError> {
         let path = path.as_ref();
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-            file: file.clone(),
-            line: None,
-            key: "file".into(),
-            message: e.to_string(),
-        })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| SceneError::new(&file, None, "file", e.to_string()))?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let stem = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "scene".into());
-        Self::parse(&text, &file, &dir, &stem)
+        Self::parse_with(&text, &file, &dir, &stem, overrides)
     }
 
     /// Parses a scene from `text`; `file` names it in errors, `dir` resolves particle files,
-    /// `default_name` is the name when the scene gives none.
+    /// `default_name` is the name when the scene gives none. The `[parameters]` are resolved
+    /// into the values that use them (`${…}`).
     ///
     /// # Errors
-    /// Malformed TOML, unknown keys or wrong types, with the line.
+    /// Malformed TOML, unknown keys or wrong types, a bad parameter or `${…}`, with the line.
     pub fn parse(
         text: &str,
         file: &str,
         dir: &Path,
         default_name: &str,
     ) -> Result<Self, SceneError> {
-        let spec: SceneSpec = toml::from_str(text).map_err(|e| SceneError {
-            file: file.into(),
-            line: e.span().map(|s| line_of(text, s.start)),
-            key: "scene".into(),
-            message: e.message().trim().to_string(),
+        Self::parse_with(text, file, dir, default_name, &[])
+    }
+
+    /// [`Scene::parse`] with `overrides` applied first (`--set KEY=VALUE` of the command:
+    /// a dotted path into the file, `body.NAME.KEY` or `body[INDEX].KEY` for one entry of a
+    /// list, or the name of a parameter).
+    ///
+    /// # Errors
+    /// As [`Scene::parse`], and an override that names nothing the file can hold.
+    pub fn parse_with(
+        text: &str,
+        file: &str,
+        dir: &Path,
+        default_name: &str,
+        overrides: &[Override],
+    ) -> Result<Self, SceneError> {
+        let source = resolve(text, file, overrides)?;
+        let spec: SceneSpec = toml::from_str(&source.text).map_err(|e| {
+            let offset = e.span().map(|s| s.start);
+            located(&source, file, offset, "scene", e.message().trim())
         })?;
         let name = spec
             .name
@@ -108,11 +164,62 @@ impl Scene {
             .unwrap_or_else(|| default_name.to_string());
         Ok(Self {
             spec,
-            text: text.into(),
+            source,
             file: file.into(),
             dir: dir.into(),
             name,
+            default_name: default_name.into(),
         })
+    }
+
+    /// The scene with one more override, `key = value` (see [`Scene::parse_with`]): what
+    /// `sph run scene.toml --set key=value` does.
+    ///
+    /// ```
+    /// # use sph_scene::Scene;
+    /// # let text = "dimension = 2\nmethod = \"tl-hf\"\nend_time = 1e-3\n[parameters]\nH = 0.01\n\
+    /// # [material]\ndensity = 1e3\nyoungs_modulus = 1e6\nnu = 0.3\n[[body]]\nname = \"b\"\n\
+    /// # dp = \"${H / 10}\"\nshape = { box = { min = [0.0, 0.0], max = [0.1, \"${H}\"] } }\n";
+    /// let scene = Scene::parse(text, "plate.toml", ".".as_ref(), "plate")?
+    ///     .set("H", "0.02")?                // a parameter: dp and the box follow it
+    ///     .set("material.nu", "0.45")?
+    ///     .set("body.b.velocity", "[0.0, 1.0]")?
+    ///     .set("method", "ul-enog")?;
+    /// assert_eq!(scene.method(), "ul-enog");
+    /// # Ok::<(), sph_scene::SceneError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Scene::parse_with`].
+    pub fn set(self, key: &str, value: &str) -> Result<Self, SceneError> {
+        let mut overrides = self.source.overrides.clone();
+        overrides.push(Override {
+            key: key.into(),
+            value: value.into(),
+        });
+        Self::parse_with(
+            &self.source.original,
+            &self.file,
+            &self.dir,
+            &self.default_name,
+            &overrides,
+        )
+    }
+
+    /// The overrides applied ([`Scene::set`], `--set`).
+    pub fn overrides(&self) -> &[Override] {
+        &self.source.overrides
+    }
+
+    /// The parameters with their values (overrides applied), in the file's order.
+    pub fn parameters(&self) -> &[(String, toml::Value)] {
+        &self.source.parameters
+    }
+
+    /// The text the scene is built from: the file's, with the overrides and the parameters'
+    /// values in place.
+    pub fn resolved_text(&self) -> &str {
+        &self.source.text
     }
 
     /// The scene's name.
@@ -143,24 +250,20 @@ impl Scene {
     }
 
     fn error(&self, span: Range<usize>, key: &str, message: impl Into<String>) -> SceneError {
-        SceneError {
-            file: self.file.clone(),
-            line: Some(line_of(&self.text, span.start)),
-            key: key.into(),
-            message: message.into(),
-        }
+        located(&self.source, &self.file, Some(span.start), key, message)
     }
 
     /// An error at `key` inside the table spanning `at.span` (the key's own line when found).
     fn error_in(&self, at: &At<'_>, path: &str, message: impl Into<String>) -> SceneError {
-        let line = key_line(&self.text, &at.span, at.key)
-            .unwrap_or_else(|| line_of(&self.text, at.span.start));
-        SceneError {
-            file: self.file.clone(),
-            line: Some(line),
-            key: path.into(),
-            message: message.into(),
-        }
+        let offset = key_line(&self.source.text, &at.span, at.key).unwrap_or(at.span.start);
+        located(&self.source, &self.file, Some(offset), path, message)
+    }
+
+    /// An error at the first line anywhere that sets `key` (its last part), if any.
+    fn error_at_key(&self, key: &str, path: &str, message: impl Into<String>) -> SceneError {
+        let last = key.rsplit('.').next().unwrap_or(key);
+        let offset = find_key_line(&self.source.text, last);
+        located(&self.source, &self.file, offset, path, message)
     }
 
     fn run_in<D: SceneDim>(
@@ -188,17 +291,18 @@ impl Scene {
         let (constants, law) = self.material(&spec.material)?;
         // Bodies: one particle set, each body a range of it.
         if spec.bodies.is_empty() {
-            return Err(SceneError {
-                file: self.file.clone(),
-                line: None,
-                key: "body".into(),
-                message: "a scene needs at least one [[body]]".into(),
-            });
+            return Err(SceneError::new(
+                &self.file,
+                None,
+                "body",
+                "a scene needs at least one [[body]]",
+            ));
         }
         let mut set = ParticleSet::<D>::new();
         let mut ranges: Vec<(String, Range<usize>)> = Vec::new();
         let mut velocities = Vec::new();
         let mut dp = f64::INFINITY;
+        let mut dps = Vec::new();
         for (k, b) in spec.bodies.iter().enumerate() {
             let (part, v) = self.body::<D>(k, b)?;
             let r = set
@@ -214,37 +318,37 @@ impl Scene {
             }
             ranges.push((b.get_ref().name.clone(), r));
             dp = dp.min(b.get_ref().dp);
+            dps.push(b.get_ref().dp);
         }
         let n = set.len();
         let body_of: Vec<u32> = (0..n)
             .map(|i| ranges.iter().position(|(_, r)| r.contains(&i)).unwrap_or(0) as u32)
             .collect();
         let constraints = self.constraints::<D>(&set, &ranges)?;
-        let loads = self.loads::<D>(&set, &ranges)?;
-        let probe_kernel = WendlandC2::<D>::from_spacing(dp, 1.3)
-            .map_err(|e| self.core(spec.bodies[0].span(), "body[0].dp", e))?;
-        let mut probes = Vec::new();
-        for (k, p) in spec.probes.iter().enumerate() {
-            let at = At {
-                span: p.span(),
-                key: "at",
-            };
-            let x = self.vector::<D>(&at, &format!("probe[{k}].at"), &p.get_ref().at)?;
-            let probe = Probe::point(
-                &p.get_ref().name,
-                x,
-                set.positions(),
-                set.volumes(),
-                &probe_kernel,
-            )
-            .map_err(|e| self.error_in(&at, &format!("probe[{k}].at"), e.to_string()))?;
-            probes.push(probe);
-        }
-        let probe_interval = spec.output.probe_interval.unwrap_or(0.0);
+        let (loads, pressures) = self.loads::<D>(&set, &ranges, &dps)?;
         let mut body = Body::from_set(set, dp).with_velocities(velocities);
         if body.velocities.iter().all(|&v| v == D::zero()) {
             body.velocities.clear();
         }
+        let mut probes = Vec::new();
+        for (k, p) in spec.probes.iter().enumerate() {
+            let at = |key| At {
+                span: p.span(),
+                key,
+            };
+            let x = self.vector::<D>(&at("at"), &format!("probe[{k}].at"), &p.get_ref().at)?;
+            let probe = Probe::at(&p.get_ref().name, x, &body)
+                .map_err(|e| self.error_in(&at("at"), &format!("probe[{k}].at"), e.to_string()))?;
+            let fields: Vec<&str> = p
+                .get_ref()
+                .fields
+                .iter()
+                .flatten()
+                .map(String::as_str)
+                .collect();
+            probes.push(probe.with_fields(&fields));
+        }
+        let probe_interval = spec.output.probe_interval.unwrap_or(0.0);
         let empty = toml::Table::new();
         let (numerics_span, numerics_table) = match &spec.numerics {
             Some(t) => (t.span(), t.get_ref()),
@@ -261,7 +365,25 @@ impl Scene {
         meta.insert("case".into(), json!(self.name));
         meta.insert("method".into(), json!(method));
         meta.insert("particles".into(), json!(n));
-        meta.insert("scene".into(), json!(self.text));
+        meta.insert("scene".into(), json!(self.source.original));
+        if !self.source.overrides.is_empty() {
+            let set: Vec<String> = self
+                .source
+                .overrides
+                .iter()
+                .map(|o| format!("{}={}", o.key, o.value))
+                .collect();
+            meta.insert("overrides".into(), json!(set));
+        }
+        if !self.source.parameters.is_empty() {
+            let p: Map<String, Json> = self
+                .source
+                .parameters
+                .iter()
+                .map(|(k, v)| (k.clone(), serde_json::to_value(v).unwrap_or(Json::Null)))
+                .collect();
+            meta.insert("parameters".into(), Json::Object(p));
+        }
         meta.insert("crate_version".into(), json!(env!("CARGO_PKG_VERSION")));
         let fields = spec.output.fields.clone();
         let run =
@@ -270,12 +392,11 @@ impl Scene {
                 let names: Vec<String> = match &fields {
                     Some(f) => {
                         if let Some(bad) = f.iter().find(|f| !offered.contains(&f.as_str())) {
-                            return Err(SceneError {
-                                file: self.file.clone(),
-                                line: None,
-                                key: "output.fields".into(),
-                                message: format!("`{bad}`: {method} offers {}", offered.join(", ")),
-                            });
+                            return Err(self.error_at_key(
+                                "fields",
+                                "output.fields",
+                                format!("`{bad}`: {method} offers {}", offered.join(", ")),
+                            ));
                         }
                         f.clone()
                     }
@@ -285,6 +406,34 @@ impl Scene {
                         .map(|f| f.to_string())
                         .collect(),
                 };
+                for (k, p) in spec.probes.iter().enumerate() {
+                    let fields = p.get_ref().fields.iter().flatten();
+                    if let Some(bad) = fields.clone().find(|f| !offered.contains(&f.as_str())) {
+                        return Err(self.error_in(
+                            &At {
+                                span: p.span(),
+                                key: "fields",
+                            },
+                            &format!("probe[{k}].fields"),
+                            format!("`{bad}`: {method} offers {}", offered.join(", ")),
+                        ));
+                    }
+                    let list: Vec<&String> = fields.collect();
+                    if let Some(twice) = list
+                        .iter()
+                        .enumerate()
+                        .find(|(i, f)| list[..*i].contains(f))
+                    {
+                        return Err(self.error_in(
+                            &At {
+                                span: p.span(),
+                                key: "fields",
+                            },
+                            &format!("probe[{k}].fields"),
+                            format!("`{}` is listed twice", twice.1),
+                        ));
+                    }
+                }
                 let names: Vec<&str> = names.iter().map(String::as_str).collect();
                 drive(solver, meta.clone(), schedule, &names, options, |_, _| {
                     Map::new()
@@ -364,8 +513,13 @@ impl Scene {
                 } else {
                     sph_tl::TlSolver::new(body, law, shear, params)
                 };
-                let mut s = built
-                    .map_err(|e| self.core(numerics_span.clone(), "numerics", e))?
+                let mut s = built.map_err(|e| self.core(numerics_span.clone(), "numerics", e))?;
+                for sp in pressures {
+                    s = s
+                        .with_surface_pressure(sp)
+                        .map_err(|e| self.error_at_key("pressure", "load", e.to_string()))?;
+                }
+                let mut s = s
                     .with_constraints(constraints)
                     .with_loads(loads)
                     .with_tools(tools)
@@ -395,6 +549,25 @@ impl Scene {
             }
             Family::Ul => {
                 no_tools(method)?;
+                if !pressures.is_empty() {
+                    let k = spec
+                        .loads
+                        .iter()
+                        .position(|l| l.get_ref().kind == "pressure")
+                        .unwrap_or(0);
+                    return Err(self.error_in(
+                        &At {
+                            span: spec.loads[k].span(),
+                            key: "type",
+                        },
+                        &format!("load[{k}].type"),
+                        format!(
+                            "a pressure load follows the surface through the deformation \
+                             gradient, which {method} does not carry; tl, tl-hf, tl-gm and mps \
+                             apply it"
+                        ),
+                    ));
+                }
                 let shear = match method {
                     "ul-og" => sph_ul::Shear::Original,
                     "ul-oas" => sph_ul::Shear::ArtificialStress {
@@ -509,9 +682,13 @@ impl Scene {
                 keys.finish(&["re_over_l0", "courant", "damping", "integrator"])
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let mut s = sph_mps::MpsSolver::new(body, law, params)
-                    .map_err(|e| self.core(numerics_span.clone(), "numerics", e))?
-                    .with_constraints(constraints)
-                    .with_loads(loads);
+                    .map_err(|e| self.core(numerics_span.clone(), "numerics", e))?;
+                for sp in pressures {
+                    s = s
+                        .with_surface_pressure(sp)
+                        .map_err(|e| self.error_at_key("pressure", "load", e.to_string()))?;
+                }
+                let mut s = s.with_constraints(constraints).with_loads(loads);
                 if multi {
                     s = s
                         .with_contact(sph_mps::Contact::between(body_of))
@@ -536,19 +713,12 @@ impl Scene {
 
     /// A driver refusal, pointing at the output key or the end time it names.
     fn driver(&self, e: DriverError) -> SceneError {
-        let (key, line) = match &e {
+        match &e {
             DriverError::InvalidValue { key, .. } => {
-                let line = find_key_line(&self.text, key);
                 let prefix = if key == "end_time" { "" } else { "output." };
-                (format!("{prefix}{key}"), line)
+                self.error_at_key(key, &format!("{prefix}{key}"), e.to_string())
             }
-            _ => ("run".into(), None),
-        };
-        SceneError {
-            file: self.file.clone(),
-            line,
-            key,
-            message: e.to_string(),
+            _ => SceneError::new(&self.file, None, "run", e.to_string()),
         }
     }
 }
@@ -704,24 +874,42 @@ fn sphere_bounds<D: Dim>(c: D::Vector, r: f64) -> (D::Vector, D::Vector) {
     (c - d, c + d)
 }
 
-/// The first line anywhere in the file that sets `key`.
+/// The start of the first line anywhere in the text that sets `key`.
 fn find_key_line(text: &str, key: &str) -> Option<usize> {
-    text.lines()
-        .position(|l| {
-            l.trim_start()
-                .strip_prefix(key)
-                .is_some_and(|r| r.trim_start().starts_with('='))
-        })
-        .map(|k| k + 1)
+    let mut offset = 0;
+    for l in text.split_inclusive('\n') {
+        if l.trim_start()
+            .strip_prefix(key)
+            .is_some_and(|r| r.trim_start().starts_with('='))
+        {
+            return Some(offset);
+        }
+        offset += l.len();
+    }
+    None
 }
 
-/// 1-based line of byte `offset`.
-fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())].matches('\n').count() + 1
+/// A scene error at byte `offset` of the resolved text: the file's line there, and the
+/// override that wrote it, if one did.
+fn located(
+    source: &Resolved,
+    file: &str,
+    offset: Option<usize>,
+    key: &str,
+    message: impl Into<String>,
+) -> SceneError {
+    let (line, by) = match offset {
+        Some(o) => source.origin(o),
+        None => (None, None),
+    };
+    SceneError {
+        set_by: by.map(|o| o.to_string()),
+        ..SceneError::new(file, line, key, message)
+    }
 }
 
-/// The line of `key = …` in the table starting at `span` (up to the next table header; a span
-/// of an array-of-tables entry may cover only its header), if written there.
+/// The start of the line of `key = …` in the table starting at `span` (up to the next table
+/// header; a span of an array-of-tables entry may cover only its header), if written there.
 fn key_line(text: &str, span: &Range<usize>, key: &str) -> Option<usize> {
     if key.is_empty() {
         return None;
@@ -735,12 +923,12 @@ fn key_line(text: &str, span: &Range<usize>, key: &str) -> Option<usize> {
         }
         if let Some(rest) = t.strip_prefix(key) {
             if rest.trim_start().starts_with('=') {
-                return Some(line_of(text, offset));
+                return Some(offset);
             }
         }
         // Inline tables: `shape = { box = … }` on one line.
         if line.contains(&format!(" {key} =")) || line.contains(&format!("{{{key} =")) {
-            return Some(line_of(text, offset));
+            return Some(offset);
         }
         offset += line.len();
     }

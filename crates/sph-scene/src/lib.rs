@@ -76,6 +76,9 @@
 pub use glam;
 
 mod build;
+mod expr;
+mod resolve;
 pub mod spec;
 
 pub use build::{Scene, SceneError};
+pub use resolve::Override;
