@@ -90,20 +90,33 @@ pub(crate) struct Resolved {
 }
 
 impl Resolved {
-    /// Where byte `offset` of the resolved text came from: the file's line, or an override.
+    /// Where the line holding byte `offset` of the resolved text came from: the file's line
+    /// (none for a line an override inserted), and the override that wrote any of it.
     pub fn origin(&self, offset: usize) -> (Option<usize>, Option<&Override>) {
-        let k = self
-            .segments
-            .partition_point(|s| s.0 <= offset)
-            .saturating_sub(1);
-        match self.segments.get(k) {
+        let offset = offset.min(self.text.len());
+        let segment = |o: usize| {
+            self.segments
+                .partition_point(|s| s.0 <= o)
+                .saturating_sub(1)
+        };
+        let line = match self.segments.get(segment(offset)) {
             Some(&(start, Origin::File(at))) => {
                 let o = (at + offset - start).min(self.original.len());
-                (Some(line_of(&self.original, o)), None)
+                Some(line_of(&self.original, o))
             }
-            Some(&(_, Origin::Override(i))) => (None, self.overrides.get(i)),
-            None => (Some(line_of(&self.original, offset)), None),
-        }
+            Some(&(_, Origin::Override(_))) => None,
+            None => Some(line_of(&self.original, offset)),
+        };
+        // The line's extent in the resolved text, and the overrides that wrote into it.
+        let start = self.text[..offset].rfind('\n').map_or(0, |i| i + 1);
+        let end = self.text[offset..]
+            .find('\n')
+            .map_or(self.text.len(), |i| offset + i);
+        let by = (segment(start)..=segment(end)).find_map(|k| match self.segments.get(k) {
+            Some(&(at, Origin::Override(i))) if at <= end => self.overrides.get(i),
+            _ => None,
+        });
+        (line, by)
     }
 }
 
@@ -241,7 +254,14 @@ pub(crate) fn resolve(
         let value = params
             .render_override(&o.value)
             .map_err(|m| fail(None, &o.to_string(), m))?;
-        let edit = locate(original, root, o, &value).map_err(|m| fail(None, &o.to_string(), m))?;
+        let mut name_of = |raw: &str| -> String {
+            match params.render_value(raw) {
+                Ok(toml::Value::String(s)) => s,
+                _ => raw.to_string(),
+            }
+        };
+        let edit = locate(original, root, o, &value, &mut name_of)
+            .map_err(|m| fail(None, &o.to_string(), m))?;
         edits.push(Edit {
             origin: Origin::Override(k),
             ..edit
@@ -257,7 +277,7 @@ pub(crate) fn resolve(
         }
         let rendered = params
             .render(&s)
-            .map_err(|m| fail(Some(range.start), &path.join("."), m))?;
+            .map_err(|m| fail(Some(range.start), &display_path(&path), m))?;
         edits.push(Edit {
             text: pad_lines(rendered, &original[range.clone()]),
             range: range.clone(),
@@ -298,6 +318,22 @@ pub(crate) fn resolve(
         overrides: overrides.to_vec(),
         parameters,
     })
+}
+
+/// `body`, `0`, `dp` → `body[0].dp`, as the scene's other errors name keys.
+fn display_path(path: &[String]) -> String {
+    let mut out = String::new();
+    for p in path {
+        if p.parse::<usize>().is_ok() {
+            out.push_str(&format!("[{p}]"));
+        } else {
+            if !out.is_empty() {
+                out.push('.');
+            }
+            out.push_str(p);
+        }
+    }
+    out
 }
 
 fn overlaps(a: &Range<usize>, b: &Range<usize>) -> bool {
@@ -568,7 +604,13 @@ fn collect_value_strings(
 type Anchor = (Option<Range<usize>>, bool, usize);
 
 /// The edit an override makes: the span of the value it replaces, or an insertion.
-fn locate(original: &str, root: &Table, o: &Override, value: &str) -> Result<Edit, String> {
+fn locate(
+    original: &str,
+    root: &Table,
+    o: &Override,
+    value: &str,
+    name_of: &mut dyn FnMut(&str) -> String,
+) -> Result<Edit, String> {
     let segments = split_path(&o.key)?;
     if SCENE_KEYS.iter().all(|k| *k != segments[0]) {
         return Err(format!(
@@ -628,12 +670,7 @@ fn locate(original: &str, root: &Table, o: &Override, value: &str) -> Result<Edi
                 };
                 let names: Vec<String> = list
                     .iter()
-                    .map(|t| {
-                        t.get("name")
-                            .and_then(Item::as_str)
-                            .unwrap_or("")
-                            .to_string()
-                    })
+                    .map(|t| name_of(t.get("name").and_then(Item::as_str).unwrap_or("")))
                     .collect();
                 let index = match which.parse::<usize>() {
                     Ok(i) if i < list.len() => i,
@@ -683,33 +720,66 @@ fn locate(original: &str, root: &Table, o: &Override, value: &str) -> Result<Edi
     }
 }
 
-/// `a.b[2].c` → `a`, `b`, `2`, `c`.
+/// `a.b[2].c` → `a`, `b`, `2`, `c`; `body[plate-1.5].dp` and `body."plate-1.5".dp` name an
+/// entry whose name holds dots.
 fn split_path(key: &str) -> Result<Vec<String>, String> {
     let mut out = Vec::new();
-    for part in key.split('.') {
-        let (head, mut rest) = match part.find('[') {
-            Some(i) => (&part[..i], &part[i..]),
-            None => (part, ""),
-        };
-        if head.is_empty() && out.is_empty() {
-            return Err(format!("`{key}`: an empty key"));
-        }
-        if !head.is_empty() {
-            out.push(head.to_string());
-        }
-        while let Some(r) = rest.strip_prefix('[') {
-            let end = r
-                .find(']')
-                .ok_or_else(|| format!("`{key}`: a `[` without `]`"))?;
-            out.push(r[..end].trim().to_string());
-            rest = &r[end + 1..];
-        }
-        if !rest.is_empty() {
-            return Err(format!("`{key}`: unexpected `{rest}`"));
+    let mut current = String::new();
+    let mut chars = key.chars().peekable();
+    let empty = || format!("`{key}`: an empty key");
+    while let Some(c) = chars.next() {
+        match c {
+            '.' => {
+                if current.is_empty() {
+                    if out.is_empty() {
+                        return Err(empty());
+                    }
+                    // After `]` or a quoted part: nothing to push.
+                } else {
+                    out.push(std::mem::take(&mut current));
+                }
+            }
+            '[' => {
+                if !current.is_empty() {
+                    out.push(std::mem::take(&mut current));
+                } else if out.is_empty() {
+                    return Err(empty());
+                }
+                let mut inner = String::new();
+                loop {
+                    match chars.next() {
+                        Some(']') => break,
+                        Some(x) => inner.push(x),
+                        None => return Err(format!("`{key}`: a `[` without `]`")),
+                    }
+                }
+                let inner = inner.trim().trim_matches('"').to_string();
+                if inner.is_empty() {
+                    return Err(empty());
+                }
+                out.push(inner);
+                if chars.peek().is_some_and(|&c| c != '.' && c != '[') {
+                    return Err(format!("`{key}`: expected `.` after `]`"));
+                }
+            }
+            '"' if current.is_empty() => {
+                let mut inner = String::new();
+                loop {
+                    match chars.next() {
+                        Some('"') => break,
+                        Some(x) => inner.push(x),
+                        None => return Err(format!("`{key}`: a `\"` without its pair")),
+                    }
+                }
+                out.push(inner);
+            }
+            c => current.push(c),
         }
     }
-    if out.iter().any(String::is_empty) {
-        return Err(format!("`{key}`: an empty key"));
+    if !current.is_empty() {
+        out.push(current);
+    } else if key.ends_with('.') || out.is_empty() {
+        return Err(empty());
     }
     Ok(out)
 }
