@@ -3,6 +3,7 @@
 
 use crate::error::CaseError;
 use serde_json::{Map, Value as Json};
+use sph_core::error::Num;
 use std::collections::BTreeMap;
 
 /// A parameter value.
@@ -52,8 +53,10 @@ impl Range {
         match self {
             Range::Positive => format!("allowed range is {key} > 0"),
             Range::NonNegative => format!("allowed range is {key} >= 0"),
-            Range::Open(lo, hi) => format!("allowed range is {lo} < {key} < {hi}"),
-            Range::Closed(lo, hi) => format!("allowed range is {lo} <= {key} <= {hi}"),
+            Range::Open(lo, hi) => format!("allowed range is {} < {key} < {}", Num(*lo), Num(*hi)),
+            Range::Closed(lo, hi) => {
+                format!("allowed range is {} <= {key} <= {}", Num(*lo), Num(*hi))
+            }
             Range::Choice(c) => format!("allowed values are {}", c.join(", ")),
             Range::Any => "any value of the parameter's type".into(),
         }
@@ -93,9 +96,23 @@ pub struct Param {
     pub range: Range,
     /// What it means, with units.
     pub help: &'static str,
+    /// The methods the key is for (`None`: every method of the case). Setting it for another
+    /// method is an error: the run could not honour it.
+    pub methods: Option<&'static [&'static str]>,
 }
 
 impl Param {
+    /// The key applies to `methods` only.
+    pub fn only(mut self, methods: &'static [&'static str]) -> Self {
+        self.methods = Some(methods);
+        self
+    }
+
+    /// Whether the key applies to `method`.
+    pub fn applies_to(&self, method: &str) -> bool {
+        self.methods.is_none_or(|m| m.contains(&method))
+    }
+
     /// A real parameter.
     pub fn float(key: &'static str, default: f64, range: Range, help: &'static str) -> Self {
         Self {
@@ -103,6 +120,7 @@ impl Param {
             default: Value::Float(default),
             range,
             help,
+            methods: None,
         }
     }
     /// An integer parameter.
@@ -112,6 +130,7 @@ impl Param {
             default: Value::Int(default),
             range,
             help,
+            methods: None,
         }
     }
     /// A switch.
@@ -121,6 +140,7 @@ impl Param {
             default: Value::Bool(default),
             range: Range::Any,
             help,
+            methods: None,
         }
     }
     /// A word from a fixed set.
@@ -135,6 +155,7 @@ impl Param {
             default: Value::Text(default.into()),
             range: Range::Choice(choices),
             help,
+            methods: None,
         }
     }
 }
@@ -145,15 +166,13 @@ pub struct Params {
     case: String,
     specs: Vec<Param>,
     values: BTreeMap<&'static str, Value>,
+    /// The keys the user set (`--set`, a parameter file), in the order set.
+    given: Vec<&'static str>,
 }
 
-/// Densities every case accepts, kg/m³: from a thousandth of air to fifty times osmium, so SI
-/// solids, foams and gels, and non-dimensional runs (ρ = 1) pass, and `1e300` does not.
-pub const DENSITY_RANGE: (f64, f64) = (1e-3, 1e6);
-
-/// Elastic moduli every case accepts, Pa: from soft gels (and non-dimensional runs, E = 1) to
-/// ten times diamond.
-pub const MODULUS_RANGE: (f64, f64) = (1e-3, 1e13);
+/// Densities and elastic moduli every case accepts: the bounds the materials themselves check
+/// (`sph_materials::ElasticConstants`), so cases and scene files refuse the same values.
+pub use sph_materials::{DENSITY_RANGE, MODULUS_RANGE};
 
 /// The physical bounds of a key, by name: `density`, and the elastic moduli (`*_modulus`,
 /// `lambda`, `c1`, `c2`). [`Params::new`] narrows a case's `Positive`/`NonNegative` range of
@@ -184,7 +203,27 @@ impl Params {
             case: case.into(),
             specs,
             values,
+            given: Vec::new(),
         }
+    }
+
+    /// Every key set explicitly applies to `method` (see [`Param::methods`]): a key of another
+    /// method (`zeta` of tl-hf with `--method tl`, an updated-Lagrangian key on a TL run) is
+    /// refused, never silently ignored.
+    ///
+    /// # Errors
+    /// [`CaseError::Config`] naming the first such key and the methods it is for.
+    pub fn check_method(&self, method: &str) -> Result<(), CaseError> {
+        for key in &self.given {
+            let spec = self.spec(key)?;
+            if let Some(methods) = spec.methods.filter(|_| !spec.applies_to(method)) {
+                return Err(CaseError::Config(format!(
+                    "{key} is a key of {}, not of {method}: drop it or choose one of those methods",
+                    methods.join(", ")
+                )));
+            }
+        }
+        Ok(())
     }
 
     /// The specifications (for `sph list --verbose` and the docs).
@@ -251,12 +290,24 @@ impl Params {
         Ok(())
     }
 
+    /// Records that the user set `key` (`--set`, a parameter file), for [`Params::check_method`].
+    fn mark_given(&mut self, key: &str) {
+        if let Ok(spec) = self.spec(key) {
+            let k = spec.key;
+            if !self.given.contains(&k) {
+                self.given.push(k);
+            }
+        }
+    }
+
     /// Applies a `key=value` argument.
     pub fn apply_assignment(&mut self, arg: &str) -> Result<(), CaseError> {
         let (k, v) = arg
             .split_once('=')
             .ok_or_else(|| CaseError::Config(format!("--set expects key=value, got `{arg}`")))?;
-        self.set_text(k.trim(), v)
+        self.set_text(k.trim(), v)?;
+        self.mark_given(k.trim());
+        Ok(())
     }
 
     /// Applies a TOML case file: top-level `key = value` pairs (an optional `[params]` table is
@@ -321,6 +372,7 @@ impl Params {
             if let Err(e) = self.set(&k, value, &shown) {
                 return Err(CaseError::Config(format!("{}{e}", at(&k))));
             }
+            self.mark_given(&k);
         }
         Ok(extras)
     }

@@ -1,12 +1,19 @@
-//! The command line's file arguments, checked before a run starts: where the results and the
-//! summary go must be writable, must not be an input of the run or each other, and may only
-//! replace a regular file that a run wrote (never a link, device, FIFO, socket or directory).
-//! Each refusal is one line naming the argument; nothing is written (a writability probe in
-//! the target directory is created and removed at once).
+//! The command line's file arguments, checked before a run starts: where the results, the
+//! summary and the checkpoint go must be writable, must not be an input of the run or each
+//! other, and may only replace a regular file that a run wrote (never a link, device, FIFO,
+//! socket or directory), and only one that can be replaced (not immutable, not in a directory
+//! that refuses renames).
+//!
+//! Every path is checked as the write will resolve it
+//! ([`sph_output::safety::resolve_for_write`]: `sub/../params.toml` with `sub` missing is
+//! `params.toml`, which the write reaches after creating `sub`), and no directory is created
+//! here: a refused run leaves the file system as it was. Each refusal is one line naming the
+//! argument (a writability probe in the target directory is created and removed at once).
 
 use crate::error::CaseError;
 use sph_output::safety::{
-    check_destination, check_results_destination, same_file, OutputLock, TempFile,
+    check_destination, check_replaceable, check_results_destination, resolve_for_write, same_file,
+    OutputLock, TempFile,
 };
 use std::path::{Path, PathBuf};
 
@@ -26,25 +33,35 @@ pub struct RunFiles {
     pub other_rank: bool,
 }
 
+/// `path` as the write will resolve it (the path itself if the current directory is gone).
+fn real(path: &Path) -> PathBuf {
+    resolve_for_write(path).unwrap_or_else(|| path.to_path_buf())
+}
+
 impl RunFiles {
     /// Checks every destination (see the module documentation).
     pub fn check(&self) -> Result<(), CaseError> {
         let mut outputs: Vec<(String, PathBuf)> = Vec::new();
         if let Some(base) = &self.results {
-            let dir = parent_dir(base);
-            check_directory("--out", base, &dir)?;
-            check_results_destination(base)?;
+            let real_base = real(base);
+            let dir = parent_dir(&real_base);
+            check_directory("--out", parent_dir(base).as_path(), &dir)?;
+            check_results_destination(&real_base)?;
+            let h5 = sph_output::h5_path(&real_base);
+            let xmf = sph_output::xmf_path(&real_base);
+            for file in [&h5, &xmf] {
+                check_replaceable(file)
+                    .map_err(|e| CaseError::Config(format!("--out {}", refusal(&e))))?;
+            }
             // Fail before building the scene if another run is writing these results (the
             // writer takes the lock for good when the run starts).
             if dir.is_dir() && !self.other_rank {
-                drop(OutputLock::acquire(&sph_output::h5_path(base))?);
+                drop(OutputLock::acquire(&h5)?);
             }
-            outputs.push(("--out".into(), sph_output::h5_path(base)));
-            outputs.push(("--out".into(), sph_output::xmf_path(base)));
-            outputs.push((
-                "--out".into(),
-                sph_output::safety::lock_path(&sph_output::h5_path(base)),
-            ));
+            let lock = sph_output::safety::lock_path(&h5);
+            for out in [h5, xmf, lock] {
+                outputs.push(("--out".into(), out));
+            }
             for (what, input) in &self.inputs {
                 for (_, out) in &outputs {
                     if same_file(out, input) {
@@ -73,26 +90,33 @@ impl RunFiles {
                     )));
                 }
             }
-            check_summary(path)?;
+            check_summary(path, &real(path))?;
         }
         if let Some(path) = &self.checkpoint {
-            check_checkpoint(path, self.inputs.iter().chain(&outputs), &self.summary)?;
+            check_checkpoint(
+                path,
+                self.inputs.iter().chain(&outputs),
+                &self.summary,
+                self.other_rank,
+            )?;
         }
         Ok(())
     }
 }
 
 /// The checkpoint goes to a writable directory and replaces at most an earlier checkpoint
-/// (a file starting with `SPHCKPT`), never an input, the results, the summary, a link, a
-/// device, a FIFO or a socket.
+/// (a file starting with `SPHCKPT`) that can be replaced, never an input, the results, the
+/// summary, a link, a device, a FIFO or a socket; no other run holds it.
 fn check_checkpoint<'a>(
     path: &Path,
     others: impl Iterator<Item = &'a (String, PathBuf)>,
     summary: &Option<PathBuf>,
+    other_rank: bool,
 ) -> Result<(), CaseError> {
     let refuse = |why: String| CaseError::Config(format!("--checkpoint {}: {why}", path.display()));
     let text = path.to_string_lossy();
-    if text.ends_with('/') || path.is_dir() {
+    let target = real(path);
+    if text.ends_with('/') || target.is_dir() {
         return Err(refuse("names a directory, not a file".into()));
     }
     for (what, other) in others {
@@ -106,11 +130,12 @@ fn check_checkpoint<'a>(
     if summary.as_deref().is_some_and(|s| same_file(path, s)) {
         return Err(refuse("is the --summary file; choose another file".into()));
     }
-    check_destination(path)
+    check_destination(&target)
+        .and_then(|()| check_replaceable(&target))
         .map_err(|e| refuse(format!("will not write there: {}", refusal_reason(&e))))?;
-    if path.exists() {
+    if target.exists() {
         let mut head = [0u8; 7];
-        let is_checkpoint = std::fs::File::open(path)
+        let is_checkpoint = std::fs::File::open(&target)
             .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head))
             .is_ok()
             && &head == b"SPHCKPT";
@@ -120,7 +145,13 @@ fn check_checkpoint<'a>(
             ));
         }
     }
-    check_directory("--checkpoint", path, &parent_dir(path))
+    let dir = parent_dir(&target);
+    check_directory("--checkpoint", path, &dir)?;
+    // Fail now if another run checkpoints here (the run takes the lock when it starts).
+    if dir.is_dir() && !other_rank {
+        drop(OutputLock::acquire(&target).map_err(|e| refuse(refusal_reason(&e)))?);
+    }
+    Ok(())
 }
 
 /// The directory a file goes to (`.` for a bare name).
@@ -131,11 +162,11 @@ fn parent_dir(path: &Path) -> PathBuf {
     }
 }
 
-/// `dir` (where `arg`'s `target` goes) is a directory, or does not exist yet and its nearest
-/// existing ancestor is one; the directory that exists is writable (probed by creating and
-/// removing a file there).
-fn check_directory(arg: &str, target: &Path, dir: &Path) -> Result<(), CaseError> {
-    let shown = if arg == "--out" { dir } else { target };
+/// `dir` (where `arg`'s `target` goes, resolved) is a directory, or does not exist yet and its
+/// nearest existing ancestor is one; the directory that exists lets this user create, rename
+/// over and remove files (probed with two files of its own, removed at once). Nothing is
+/// created but the probes.
+fn check_directory(arg: &str, shown: &Path, dir: &Path) -> Result<(), CaseError> {
     let mut existing = dir.to_path_buf();
     loop {
         match std::fs::metadata(&existing) {
@@ -162,22 +193,37 @@ fn check_directory(arg: &str, target: &Path, dir: &Path) -> Result<(), CaseError
             }
         }
     }
-    TempFile::beside(&existing.join(".sph-write-probe"), true)
-        .map(drop)
-        .map_err(|e| {
-            CaseError::Config(format!(
-                "{arg} {}: cannot write in {}: {}",
-                shown.display(),
-                existing.display(),
-                io_reason(&e)
-            ))
-        })
+    let cannot = |what: &str, e: &sph_output::OutputError| {
+        CaseError::Config(format!(
+            "{arg} {}: cannot {what} in {}: {}",
+            shown.display(),
+            existing.display(),
+            io_reason(e)
+        ))
+    };
+    // A directory that is append-only or immutable refuses the rename every output ends
+    // with (and the removal of the probes): say so before probing.
+    check_replaceable(&existing.join(".sph-write-probe"))
+        .map_err(|e| cannot("replace files", &e))?;
+    let probe = existing.join(".sph-write-probe");
+    let a = TempFile::beside(&probe, true).map_err(|e| cannot("write", &e))?;
+    let b = TempFile::beside(&probe, true).map_err(|e| cannot("write", &e))?;
+    let b_path = b.path().to_path_buf();
+    drop(b);
+    a.persist(&b_path).map_err(|e| cannot("rename files", &e))?;
+    std::fs::remove_file(&b_path).map_err(|e| {
+        CaseError::Config(format!(
+            "{arg} {}: cannot remove files in {}: {e}",
+            shown.display(),
+            existing.display()
+        ))
+    })
 }
 
 fn io_reason(e: &sph_output::OutputError) -> String {
     match e {
         sph_output::OutputError::Io { source, .. } => source.to_string(),
-        other => other.to_string(),
+        other => refusal_reason(other),
     }
 }
 
@@ -189,7 +235,7 @@ fn check_names_a_file(path: &Path) -> Result<(), CaseError> {
             path.file_name().map(|n| n.to_string_lossy()),
             None | Some(std::borrow::Cow::Borrowed("." | ".."))
         );
-    if names_dir || path.is_dir() {
+    if names_dir || real(path).is_dir() {
         return Err(CaseError::Config(format!(
             "--summary {}: names a directory, not a file",
             path.display()
@@ -198,17 +244,26 @@ fn check_names_a_file(path: &Path) -> Result<(), CaseError> {
     Ok(())
 }
 
-/// The summary goes to a writable directory and replaces at most an empty file or an earlier
-/// summary (a JSON object with `case` and `status`), never a link, device, FIFO or socket.
-fn check_summary(path: &Path) -> Result<(), CaseError> {
-    check_destination(path).map_err(|e| {
+/// The summary (`shown`, resolved to `target`) goes to a writable directory and replaces at
+/// most an empty file or an earlier summary (a JSON object with `case` and `status`) that can
+/// be replaced, never a link, device, FIFO or socket.
+fn check_summary(shown: &Path, target: &Path) -> Result<(), CaseError> {
+    let refuse = |why: String| {
         CaseError::Config(format!(
-            "--summary {}: will not write there: {}",
-            path.display(),
-            refusal_reason(&e)
+            "--summary {}: will not write there: {why}",
+            shown.display()
         ))
-    })?;
-    if let Ok(old) = std::fs::read_to_string(path) {
+    };
+    check_destination(target)
+        .and_then(|()| check_replaceable(target))
+        .map_err(|e| refuse(refusal_reason(&e)))?;
+    if target.exists() {
+        let old = sph_output::input::read_text_input(target).map_err(|_| {
+            CaseError::Config(format!(
+                "--summary {}: exists and cannot be read, so it is not replaced",
+                shown.display()
+            ))
+        })?;
         let is_summary = old.trim().is_empty()
             || serde_json::from_str::<serde_json::Value>(&old)
                 .map(|v| v.get("case").is_some() && v.get("status").is_some())
@@ -217,21 +272,26 @@ fn check_summary(path: &Path) -> Result<(), CaseError> {
             return Err(CaseError::Config(format!(
                 "--summary {}: exists and is not an sph summary (a JSON object with `case` and \
                  `status`); remove it or choose another file",
-                path.display()
+                shown.display()
             )));
         }
-    } else if path.exists() {
-        return Err(CaseError::Config(format!(
-            "--summary {}: exists and cannot be read, so it is not replaced",
-            path.display()
-        )));
     }
-    check_directory("--summary", path, &parent_dir(path))
+    check_directory("--summary", shown, &parent_dir(target))
 }
 
 fn refusal_reason(e: &sph_output::OutputError) -> String {
     match e {
         sph_output::OutputError::Refused { reason, .. } => reason.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// A refusal with its path: `<path>: <reason>`.
+fn refusal(e: &sph_output::OutputError) -> String {
+    match e {
+        sph_output::OutputError::Refused { path, reason } => {
+            format!("{}: {reason}", path.display())
+        }
         other => other.to_string(),
     }
 }

@@ -127,6 +127,17 @@ impl Amplitude {
         })
     }
 
+    /// The largest `|a(t)|` over all times.
+    pub fn max_abs(&self) -> f64 {
+        match self {
+            Amplitude::Ramp { .. } | Amplitude::SmoothStep { .. } => 1.0,
+            Amplitude::Table(points) => points.iter().map(|p| p.1.abs()).fold(0.0, f64::max),
+            Amplitude::Sine {
+                amplitude, offset, ..
+            } => offset.abs() + amplitude.abs(),
+        }
+    }
+
     /// The value at time `t`.
     pub fn at(&self, t: f64) -> f64 {
         match self {

@@ -22,6 +22,8 @@
 
 use crate::dim::Dim;
 use crate::error::Error;
+
+mod limits;
 use std::cell::RefCell;
 use std::sync::OnceLock;
 
@@ -86,14 +88,15 @@ impl Budget {
         }
     }
 
-    /// [`DEFAULT_MEMORY_FRACTION`] of [`available_memory`]; unlimited where the available
-    /// memory cannot be read (then only [`MAX_PARTICLES`] applies).
+    /// [`DEFAULT_MEMORY_FRACTION`] of [`available_memory`], with the limit it comes from in
+    /// its origin; unlimited where the available memory cannot be read (then only
+    /// [`MAX_PARTICLES`] applies).
     pub fn from_available_memory() -> Self {
-        match available_memory() {
-            Some(avail) => Self::with_limit(
+        match limits::tightest() {
+            Some((avail, what)) => Self::with_limit(
                 (avail as f64 * DEFAULT_MEMORY_FRACTION) as u64,
                 format!(
-                    "{:.0} % of the {} available",
+                    "{:.0} % of the {} {what}",
                     DEFAULT_MEMORY_FRACTION * 100.0,
                     format_bytes(avail as f64)
                 ),
@@ -118,39 +121,13 @@ impl Budget {
     }
 }
 
-/// Memory this process may still use, bytes: Linux's `MemAvailable`, lowered to what the
-/// memory cgroup (v2 `memory.max` minus `memory.current`, v1 `memory.limit_in_bytes` minus
-/// `memory.usage_in_bytes`) leaves, if one limits it. `None` where neither can be read.
+/// Memory this process may still use, bytes: the least of Linux's `MemAvailable`, what its
+/// memory cgroups leave (at every level of its hierarchy, v2 `memory.max` minus
+/// `memory.current`, v1 `memory.limit_in_bytes` minus `memory.usage_in_bytes`) and what its
+/// address-space and data limits (`ulimit -v`, `ulimit -d`) leave beyond its current size and
+/// its worker threads' reservations. `None` where none can be read.
 pub fn available_memory() -> Option<u64> {
-    let meminfo = std::fs::read_to_string("/proc/meminfo").ok().and_then(|s| {
-        s.lines()
-            .find_map(|l| l.strip_prefix("MemAvailable:"))
-            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
-            .map(|kb| kb.saturating_mul(1024))
-    });
-    let read = |p: &str| -> Option<u64> {
-        std::fs::read_to_string(p)
-            .ok()
-            .and_then(|s| s.trim().parse::<u64>().ok())
-    };
-    let cgroup = match (
-        read("/sys/fs/cgroup/memory.max"),
-        read("/sys/fs/cgroup/memory.current"),
-    ) {
-        (Some(max), Some(cur)) => Some(max.saturating_sub(cur)),
-        _ => match (
-            read("/sys/fs/cgroup/memory/memory.limit_in_bytes"),
-            read("/sys/fs/cgroup/memory/memory.usage_in_bytes"),
-        ) {
-            // v1 reports "no limit" as a huge number; min() below makes it harmless.
-            (Some(max), Some(cur)) => Some(max.saturating_sub(cur)),
-            _ => None,
-        },
-    };
-    match (meminfo, cgroup) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
-    }
+    limits::tightest().map(|(bytes, _)| bytes)
 }
 
 struct Scope {

@@ -623,6 +623,10 @@ impl<D: Dim, S: Solver<D>> Solver<D> for DistributedSolver<D, S> {
         self.inner.stable_dt()
     }
 
+    fn check_time_step(&self) -> Result<(), Error> {
+        self.inner.check_time_step()
+    }
+
     fn substep_dt(&self) -> f64 {
         self.inner.substep_dt()
     }

@@ -124,12 +124,29 @@ impl Error {
     }
 }
 
+/// A number as an error message shows it: the shortest form that reads back to the same
+/// value, in scientific notation outside `[1e-3, 1e6)` (`1e300`, not 301 digits; `2.5e-7`,
+/// `1e13`), so a message stays one short line whatever the input.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
+            write!(f, "{x}")
+        } else {
+            write!(f, "{x:e}")
+        }
+    }
+}
+
 /// `Ok(())` if `value` is finite and `> 0`, else an error naming `field`.
 pub fn check_positive(field: &str, value: f64) -> Result<(), Error> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(Error::invalid(field, value, "finite and > 0"))
+        Err(Error::invalid(field, Num(value), "finite and > 0"))
     }
 }
 
@@ -138,7 +155,7 @@ pub fn check_non_negative(field: &str, value: f64) -> Result<(), Error> {
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(Error::invalid(field, value, "finite and >= 0"))
+        Err(Error::invalid(field, Num(value), "finite and >= 0"))
     }
 }
 
@@ -149,8 +166,120 @@ pub fn check_open_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<(),
     } else {
         Err(Error::invalid(
             field,
-            value,
-            &format!("{lo} < {field} < {hi}"),
+            Num(value),
+            &format!("{} < {field} < {}", Num(lo), Num(hi)),
         ))
+    }
+}
+
+/// `Ok(())` if `lo ≤ value ≤ hi` (closed interval), else an error naming `field`.
+pub fn check_closed_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<(), Error> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            field,
+            Num(value),
+            &format!("{} <= {field} <= {}", Num(lo), Num(hi)),
+        ))
+    }
+}
+
+/// Longest name [`check_name`] accepts, bytes: a results file `<name>-<method>.h5` with its
+/// temporary suffix (`.<pid>-<k>.tmp`) and lock suffix must stay within the 255 bytes a file
+/// name may have.
+pub const MAX_NAME_BYTES: usize = 128;
+
+/// `Ok(())` if `name` is a name and cannot act as a path: 1 to [`MAX_NAME_BYTES`] bytes, no
+/// `/` or `\`, not `.` or `..`, no control character (newline, tab, NUL, …). Scene, body,
+/// probe, constraint, tool and series names become file names (`<scene>-<method>.h5`) and
+/// HDF5 group names (`/probes/<probe>`), so a name that could climb out of the output
+/// directory, make directories or break a line is refused before any work; `what` names it in
+/// the error (`probe name`).
+pub fn check_name(what: &str, name: &str) -> Result<(), Error> {
+    let why = if name.is_empty() {
+        Some("empty")
+    } else if name.len() > MAX_NAME_BYTES {
+        Some("too long")
+    } else if name.contains(['/', '\\']) {
+        Some("a path separator")
+    } else if name == "." || name == ".." {
+        Some("a directory name")
+    } else if name.chars().any(char::is_control) {
+        Some("a control character")
+    } else {
+        None
+    };
+    match why {
+        None => Ok(()),
+        Some(why) => Err(Error::invalid(
+            what,
+            format!("{name:?} ({why})"),
+            &format!(
+                "a name of 1 to {MAX_NAME_BYTES} bytes without `/`, `\\` or control characters, \
+                 not `.` or `..`"
+            ),
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_in_messages_stay_short() {
+        assert_eq!(Num(1e300).to_string(), "1e300");
+        assert_eq!(Num(-1e300).to_string(), "-1e300");
+        assert_eq!(Num(1e13).to_string(), "1e13");
+        assert_eq!(Num(2.5e-7).to_string(), "2.5e-7");
+        assert_eq!(Num(1100.0).to_string(), "1100");
+        assert_eq!(Num(0.45).to_string(), "0.45");
+        assert_eq!(Num(0.0).to_string(), "0");
+        assert_eq!(Num(f64::NAN).to_string(), "NaN");
+        let e = check_positive("density", -1e300).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "invalid density = -1e300: allowed range is finite and > 0"
+        );
+        let e = check_closed_range("modulus", 1e14, 0.0, 1e13)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "invalid modulus = 1e14: allowed range is 0 <= modulus <= 1e13"
+        );
+    }
+
+    #[test]
+    fn names_that_could_be_paths_are_refused() {
+        for good in ["plate", "tip-probe_1", "Grip A", "ζ", "..x", "a.b"] {
+            check_name("probe name", good).unwrap();
+        }
+        check_name("probe name", &"x".repeat(MAX_NAME_BYTES)).unwrap();
+        for (bad, why) in [
+            ("", "empty"),
+            ("a/b", "a path separator"),
+            ("/abs", "a path separator"),
+            ("../up", "a path separator"),
+            ("a\\b", "a path separator"),
+            (".", "a directory name"),
+            ("..", "a directory name"),
+            ("new\nline", "a control character"),
+            ("tab\there", "a control character"),
+            ("nul\0", "a control character"),
+        ] {
+            let e = check_name("probe name", bad).unwrap_err().to_string();
+            assert!(
+                e.starts_with("invalid probe name = ") && e.contains(why),
+                "{bad:?}: {e}"
+            );
+            assert_eq!(e.lines().count(), 1, "{e}");
+        }
+        let long = "x".repeat(MAX_NAME_BYTES + 1);
+        assert!(check_name("name", &long)
+            .unwrap_err()
+            .to_string()
+            .contains("too long"));
     }
 }

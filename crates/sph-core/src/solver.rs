@@ -92,6 +92,16 @@ pub trait Solver<D: Dim>: Send {
     /// The stable time step the next step would take (before the `max_dt` cap).
     fn stable_dt(&self) -> f64;
 
+    /// The blow-up guard [`Solver::step`] applies before it moves anything:
+    /// [`Error::TimeStepCollapsed`] when the step the current state allows (its speeds and
+    /// accelerations) is below the method's floor, a small fraction of the acoustic step at
+    /// rest ([`crate::diagnostics::MIN_DT_RATIO`]). A run driver calls it before the run, so
+    /// that a state that cannot take its first step (a body thrown far faster than its sound
+    /// speed, a very soft material) is refused before anything is written. Default: no guard.
+    fn check_time_step(&self) -> Result<(), Error> {
+        Ok(())
+    }
+
     /// The shortest step one call of [`Solver::step`] is made of: [`Solver::stable_dt`] unless
     /// the method sub-steps (UL's dual stepping: the acoustic step). Run drivers estimate the
     /// work of a run from it before they start.

@@ -539,6 +539,23 @@ impl<D: Dim> ToolMotion<D> {
         }
     }
 
+    /// The largest translational speed of the motion (m/s): a straight line's speed after its
+    /// ramp, a path's fastest segment, a velocity curve's `|v| max |a|`. A rotating tool's
+    /// points move faster: see [`RigidTool::max_speed`].
+    pub fn speed(&self) -> f64 {
+        match &self.translation {
+            Translation::Line { speed, .. } => *speed,
+            Translation::Path(points) => points
+                .windows(2)
+                .map(|w| D::norm(w[1].1 - w[0].1) / (w[1].0 - w[0].0))
+                .fold(0.0, f64::max),
+            Translation::Velocity {
+                velocity,
+                amplitude,
+            } => D::norm(*velocity) * amplitude.as_ref().map_or(1.0, Amplitude::max_abs),
+        }
+    }
+
     /// Distance travelled along a straight line by time `t` before the stop (no clamping).
     fn free_distance(speed: f64, ramp_time: f64, t: f64) -> f64 {
         let (v, tr) = (speed, ramp_time);
@@ -708,6 +725,32 @@ impl<D: Dim> RigidTool<D> {
             shape,
             motion,
         }
+    }
+
+    /// The largest speed of a point of the tool (m/s): its translation's speed, plus for a
+    /// rotating tool the largest angular speed times the distance from the axis's centre to the
+    /// farthest corner of the shape's bounding box (infinite for a turning half-space).
+    pub fn max_speed(&self) -> f64 {
+        let turning = self.motion.rotation().map_or(0.0, |r| {
+            let omega =
+                r.angular_velocity.abs() * r.amplitude.as_ref().map_or(1.0, Amplitude::max_abs);
+            let (lo, hi) = self.shape.bounds();
+            let mut reach = 0.0f64;
+            for corner in 0..(1usize << D::D) {
+                let mut x = D::zero();
+                for k in 0..D::D {
+                    let c = if corner >> k & 1 == 0 { lo } else { hi };
+                    D::set_component(&mut x, k, D::component(c, k));
+                }
+                reach = reach.max(D::norm(x - r.centre));
+            }
+            if omega == 0.0 {
+                0.0
+            } else {
+                omega * reach
+            }
+        });
+        self.motion.speed() + turning
     }
 
     /// Signed distance and outward normal of the tool at time `t`.

@@ -218,24 +218,34 @@ impl Checkpoint {
     /// matching checksum, and a readable run description. Every problem is one line naming the
     /// file; nothing else is read or written.
     pub fn load(path: &Path) -> Result<Self, DriverError> {
-        let bytes =
-            std::fs::read(path).map_err(|e| corrupt(path, format!("cannot read it: {e}")))?;
-        if bytes.len() < HEADER_LEN || &bytes[..8] != MAGIC {
-            let short = bytes.len() < HEADER_LEN && MAGIC.starts_with(&bytes[..bytes.len().min(8)]);
+        use std::io::Read;
+        // A regular file only (a FIFO or device is refused at once); its header first, so
+        // that a file the size of the disk is never read to find it is not a checkpoint.
+        let (file, size) =
+            sph_output::input::open_input(path, u64::MAX).map_err(|e| corrupt(path, e.reason))?;
+        let mut file = file;
+        let mut header = Vec::with_capacity(HEADER_LEN);
+        (&mut file)
+            .take(HEADER_LEN as u64)
+            .read_to_end(&mut header)
+            .map_err(|e| corrupt(path, format!("cannot read it: {e}")))?;
+        if header.len() < HEADER_LEN || &header[..8] != MAGIC {
+            let short =
+                header.len() < HEADER_LEN && MAGIC.starts_with(&header[..header.len().min(8)]);
             return Err(corrupt(
                 path,
                 if short {
                     format!(
                         "truncated ({} bytes; the header alone has {HEADER_LEN})",
-                        bytes.len()
+                        header.len()
                     )
                 } else {
                     "not an sph checkpoint (it does not start with SPHCKPT)".into()
                 },
             ));
         }
-        let word = |k: usize| u64::from_le_bytes(bytes[k..k + 8].try_into().expect("8 bytes"));
-        let version = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes"));
+        let word = |k: usize| u64::from_le_bytes(header[k..k + 8].try_into().expect("8 bytes"));
+        let version = u32::from_le_bytes(header[8..12].try_into().expect("4 bytes"));
         if !(1..=FORMAT_VERSION).contains(&version) {
             return Err(corrupt(
                 path,
@@ -245,25 +255,48 @@ impl Checkpoint {
                 ),
             ));
         }
+        if header[12..16] != [0; 4] {
+            return Err(corrupt(
+                path,
+                "corrupt: its header's reserved bytes 12-15 are not zero",
+            ));
+        }
         let (len, sum) = (word(16), word(24));
-        let body = &bytes[HEADER_LEN..];
-        if body.len() as u64 != len {
+        let held = size.saturating_sub(HEADER_LEN as u64);
+        if held != len {
             return Err(corrupt(
                 path,
                 format!(
                     "truncated or extended: the header announces {len} bytes of state, the file \
-                     holds {}",
-                    body.len()
+                     holds {held}"
                 ),
             ));
         }
-        if fnv1a64(body) != sum {
+        let limit = sph_core::budget::current().max_bytes;
+        if limit.is_some_and(|l| len > l) {
+            return Err(corrupt(
+                path,
+                format!(
+                    "its {} of state exceed the memory limit of {}",
+                    sph_core::budget::format_bytes(len as f64),
+                    sph_core::budget::format_bytes(limit.unwrap_or(0) as f64)
+                ),
+            ));
+        }
+        let mut body = Vec::with_capacity(len as usize);
+        file.take(len)
+            .read_to_end(&mut body)
+            .map_err(|e| corrupt(path, format!("cannot read it: {e}")))?;
+        if body.len() as u64 != len {
+            return Err(corrupt(path, "truncated while it was read"));
+        }
+        if fnv1a64(&body) != sum {
             return Err(corrupt(
                 path,
                 "corrupt: the checksum does not match its contents",
             ));
         }
-        Self::decode(path, body, version).map_err(|e| corrupt(path, e))
+        Self::decode(path, &body, version).map_err(|e| corrupt(path, e))
     }
 
     fn decode(path: &Path, body: &[u8], version: u32) -> Result<Self, sph_core::Error> {

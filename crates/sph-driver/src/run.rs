@@ -137,6 +137,29 @@ pub struct Schedule {
     pub max_steps: u64,
 }
 
+/// The output fields a run writes: each offered by the solver, none twice; checked before the
+/// run (a bad list found only at the first snapshot would cost the run).
+fn check_fields<D: Dim>(solver: &dyn Solver<D>, fields: &[&str]) -> Result<(), DriverError> {
+    let offered = solver.field_names();
+    for (k, f) in fields.iter().enumerate() {
+        if !offered.contains(f) {
+            return Err(DriverError::InvalidValue {
+                key: "fields".into(),
+                value: format!("`{f}`"),
+                allowed: format!("{} offers {}", solver.method(), offered.join(", ")),
+            });
+        }
+        if fields[..k].contains(f) {
+            return Err(DriverError::InvalidValue {
+                key: "fields".into(),
+                value: format!("`{f}` (given twice)"),
+                allowed: "each field once".into(),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Runs `solver` to `schedule.end_time`. `meta` goes to `/meta`; `summarise` turns the record
 /// and the solver's probes into the case's figures (merged over the standard ones). Returns the
 /// record and the summary.
@@ -170,9 +193,15 @@ pub fn drive<D: Dim>(
             allowed: "off when no results file is written".into(),
         });
     }
+    check_fields(solver, fields)?;
     check_probe_fields(solver, comm.is_some())?;
     let estimate = crate::guard::Estimate::of(solver, &schedule, fields, options);
     estimate.check(&schedule, options)?;
+    if options.resume.is_none() {
+        solver
+            .check_time_step()
+            .map_err(|e| DriverError::Config(format!("the run cannot take its first step: {e}: the initial velocities or loads are far faster than the material's sound speed (a very soft material?)")))?;
+    }
     let mut record = RunRecord {
         particles: solver.len(),
         estimate: Some(estimate.clone()),
@@ -196,6 +225,20 @@ pub fn drive<D: Dim>(
         );
         return Ok((record, summary));
     }
+    // Held for the run: a second run checkpointing to the same file fails at once. Taken
+    // here, after every check, so a refused run creates no directory.
+    let _checkpoint_lock = match &options.checkpoint {
+        Some(plan) => {
+            if let Some(dir) = plan.path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir).map_err(|e| DriverError::Io {
+                    path: dir.display().to_string(),
+                    source: e,
+                })?;
+            }
+            Some(sph_output::safety::OutputLock::acquire(&plan.path)?)
+        }
+        None => None,
+    };
     let mut writer: Option<Box<dyn ResultWriter>> = match &options.output {
         Some(path) if !root => Some(Box::new(crate::ranks::Discard(path.clone()))),
         Some(path) => {

@@ -1,8 +1,26 @@
 //! Isotropic elastic constants and the relations between them (TL paper eq. 5–6).
 
 use serde::{Deserialize, Serialize};
-use sph_core::error::{check_open_range, check_positive};
+use sph_core::error::{check_closed_range, check_open_range};
 use sph_core::Error;
+
+/// Densities a material may have, kg/m³: from a thousandth of air to fifty times osmium, so SI
+/// solids, foams and gels, and non-dimensional runs (ρ = 1) pass, and `1e300` does not.
+pub const DENSITY_RANGE: (f64, f64) = (1e-3, 1e6);
+
+/// Elastic moduli a material may have, Pa: from soft gels (and non-dimensional runs, E = 1) to
+/// ten times diamond.
+pub const MODULUS_RANGE: (f64, f64) = (1e-3, 1e13);
+
+/// `Ok` if `density` is within [`DENSITY_RANGE`].
+pub(crate) fn check_density(density: f64) -> Result<(), Error> {
+    check_closed_range("density", density, DENSITY_RANGE.0, DENSITY_RANGE.1)
+}
+
+/// `Ok` if the modulus `field` is within [`MODULUS_RANGE`].
+pub(crate) fn check_modulus(field: &str, value: f64) -> Result<(), Error> {
+    check_closed_range(field, value, MODULUS_RANGE.0, MODULUS_RANGE.1)
+}
 
 /// Relative tolerance with which derived constants given in a case file must agree with the ones
 /// computed from the independent pair.
@@ -41,8 +59,9 @@ pub struct ElasticConstants {
 }
 
 impl ElasticConstants {
-    /// Constants from Young's modulus `E > 0`, Poisson's ratio `−1 < ν < 0.5` and reference
-    /// density `ρ0 > 0` (all finite); the relations of TL paper eq. 5–6.
+    /// Constants from Young's modulus `E` (within [`MODULUS_RANGE`]), Poisson's ratio
+    /// `−1 < ν < 0.5` and reference density `ρ0` (within [`DENSITY_RANGE`]); the relations of
+    /// TL paper eq. 5–6.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming `youngs_modulus`, `poisson_ratio` or `density`.
@@ -51,9 +70,9 @@ impl ElasticConstants {
         poisson_ratio: f64,
         density: f64,
     ) -> Result<Self, Error> {
-        check_positive("youngs_modulus", youngs_modulus)?;
+        check_modulus("youngs_modulus", youngs_modulus)?;
         check_open_range("poisson_ratio", poisson_ratio, -1.0, 0.5)?;
-        check_positive("density", density)?;
+        check_density(density)?;
         let (e, nu) = (youngs_modulus, poisson_ratio);
         let bulk = e / (3.0 * (1.0 - 2.0 * nu));
         let shear = e / (2.0 * (1.0 + nu));
@@ -61,8 +80,8 @@ impl ElasticConstants {
         Self::finish(e, nu, density, bulk, shear, lambda)
     }
 
-    /// Constants from the bulk modulus `K > 0`, shear modulus `G > 0` and reference density
-    /// `ρ0 > 0` (the MPS paper gives K and μ): `E = 9KG / (3K + G)`,
+    /// Constants from the bulk modulus `K` and shear modulus `G` (within [`MODULUS_RANGE`]) and
+    /// reference density `ρ0` (within [`DENSITY_RANGE`]) (the MPS paper gives K and μ): `E = 9KG / (3K + G)`,
     /// `ν = (3K − 2G) / (2(3K + G))`, `λ = K − 2G/3`. Any `K, G > 0` gives `−1 < ν < 0.5`.
     ///
     /// # Errors
@@ -72,9 +91,9 @@ impl ElasticConstants {
         shear_modulus: f64,
         density: f64,
     ) -> Result<Self, Error> {
-        check_positive("bulk_modulus", bulk_modulus)?;
-        check_positive("shear_modulus", shear_modulus)?;
-        check_positive("density", density)?;
+        check_modulus("bulk_modulus", bulk_modulus)?;
+        check_modulus("shear_modulus", shear_modulus)?;
+        check_density(density)?;
         let (k, g) = (bulk_modulus, shear_modulus);
         let e = 9.0 * k * g / (3.0 * k + g);
         let nu = (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g));
@@ -225,9 +244,17 @@ mod tests {
     fn near_incompressible_overflow_is_rejected() {
         let nu = 0.5 - 1e-17; // rounds to 0.5 → rejected by the range check itself
         assert!(ElasticConstants::from_youngs(1.0, nu, 1.0).is_err());
+        // A modulus that would overflow is outside the physical range, and within it nothing
+        // overflows, however close to incompressible.
         let err = ElasticConstants::from_youngs(f64::MAX, 0.49, 1.0)
             .unwrap_err()
             .to_string();
-        assert!(err.contains("finite"), "{err}");
+        assert!(
+            err.contains("youngs_modulus") && err.contains("1e13"),
+            "{err}"
+        );
+        let nu = 0.5 - f64::EPSILON;
+        let c = ElasticConstants::from_youngs(MODULUS_RANGE.1, nu, DENSITY_RANGE.0).unwrap();
+        assert!(c.bulk_modulus.is_finite() && c.sound_speed.is_finite());
     }
 }

@@ -32,7 +32,7 @@ pub mod material;
 pub mod model;
 pub mod stress;
 
-pub use constants::ElasticConstants;
+pub use constants::{ElasticConstants, DENSITY_RANGE, MODULUS_RANGE};
 pub use laws::kirchhoff_vol_dev::{DeviatorDimension, KirchhoffVolDev};
 pub use laws::mooney_rivlin::MooneyRivlinLike;
 pub use laws::neo_hookean::NeoHookean;

@@ -11,6 +11,7 @@ use sph_core::correction::DEFAULT_MIN_EIGENVALUE;
 use sph_core::diagnostics;
 use sph_core::disorder::{disorder_indicator, ReferenceWeights};
 use sph_core::distributed::OverRanks;
+use sph_core::error::{check_closed_range, check_non_negative, check_open_range, check_positive};
 use sph_core::pressure::{ResolvedPressure, SurfacePressure};
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
@@ -72,6 +73,32 @@ pub struct MpsParams {
     /// modes of eq 4–5 a stiffness `α μ`. 0 = off, the paper's model (default).
     #[serde(default)]
     pub stabilisation: f64,
+}
+
+impl MpsParams {
+    /// The allowed `r_e/l0`, `lo < r_e/l0 < hi`: beyond the nearest neighbours, within a
+    /// support that still resolves a body a dozen spacings thick.
+    pub const RE_OVER_L0_RANGE: (f64, f64) = (1.0, 6.0);
+    /// The allowed Courant number, `lo < C < hi`.
+    pub const COURANT_RANGE: (f64, f64) = (0.0, 1.0);
+    /// The allowed stabilisation strength α, `lo ≤ α ≤ hi`.
+    pub const STABILISATION_RANGE: (f64, f64) = (0.0, 100.0);
+
+    /// Checks every parameter against its range (the ranges the `sph` command's keys and scene
+    /// files share).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), Error> {
+        let (lo, hi) = Self::RE_OVER_L0_RANGE;
+        check_open_range("re_over_l0", self.re_over_l0, lo, hi)?;
+        let (lo, hi) = Self::COURANT_RANGE;
+        check_open_range("courant", self.courant, lo, hi)?;
+        check_non_negative("damping", self.damping)?;
+        let (lo, hi) = Self::STABILISATION_RANGE;
+        check_closed_range("stabilisation", self.stabilisation, lo, hi)?;
+        check_positive("moment_min_eigenvalue", self.moment_min_eigenvalue)
+    }
 }
 
 impl Default for MpsParams {
@@ -202,7 +229,12 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
 
     /// Attaches probes, recorded at `t = 0` and then every `interval` of simulated time
     /// (0 = every step).
+    ///
+    /// # Errors
+    /// Probes that [`sph_core::scene::check_probes`] refuses; a negative or non-finite
+    /// `interval`.
     pub fn with_probes(mut self, probes: Vec<Probe<D>>, interval: f64) -> Result<Self, Error> {
+        sph_core::scene::check_probes(&probes)?;
         self.schedule = ProbeSchedule::every(interval)?;
         self.probes = probes;
         if self.schedule.due(self.time) {
@@ -506,12 +538,16 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
         "mps"
     }
 
+    /// Blow-up guard: the step stays C l0/c (the paper's), but the one a CFL criterion on the
+    /// current |v| and |a| would allow must stay above MIN_DT_RATIO of it (as TL's eq 33).
+    fn check_time_step(&self) -> Result<(), Error> {
+        let floor = diagnostics::MIN_DT_RATIO * self.stable_dt();
+        diagnostics::check_time_step(self.state_dt(), floor, self.steps, self.time)
+    }
+
     /// One symplectic step of `Δt = min(C l0 / c, max_dt)` (see [`Integrator`]).
     fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
-        // Blow-up guard: the step stays C l0/c (the paper's), but the one a CFL criterion on the
-        // current |v| and |a| would allow must stay above MIN_DT_RATIO of it (as TL's eq 33).
-        let floor = diagnostics::MIN_DT_RATIO * self.stable_dt();
-        diagnostics::check_time_step(self.state_dt(), floor, self.steps, self.time)?;
+        self.check_time_step()?;
         if max_dt.is_nan() || max_dt <= 0.0 {
             return Err(Error::invalid("max_dt", max_dt, "> 0"));
         }

@@ -359,17 +359,19 @@ fn invalid_input_is_rejected_naming_the_field() {
 
 #[test]
 fn blow_up_stops_the_run_with_a_diagnostic() {
-    // A Courant number far beyond the stability limit makes the explicit scheme diverge; the
-    // run must stop with a blow-up diagnostic (not panic, not loop forever). The first sign is
-    // an inverted particle (det F < 0), seen before any value turns non-finite; without the
-    // J check the Saint Venant–Kirchhoff law would go on integrating it.
+    // A Courant number twice the stability limit (0.45 in tests/energy.rs, from the same 2 %
+    // random perturbation; 0.95 is about the largest the parameter range admits) makes the
+    // explicit scheme diverge; the run must stop with a
+    // blow-up diagnostic (not panic, not loop forever). The first sign is an inverted particle
+    // (det F < 0), seen before any value turns non-finite; without the J check the Saint
+    // Venant–Kirchhoff law would go on integrating it.
     let params = MpsParams {
-        courant: 5.0,
+        courant: 0.95,
         ..MpsParams::default()
     };
     let mut s = solver_with::<D2, _>([6, 5, 1], svk(), params);
     let mut rng = Lcg(5);
-    let x = deformed::<D2>(s.reference_positions(), &mut rng, 0.0, 0.01);
+    let x = deformed::<D2>(s.reference_positions(), &mut rng, 0.0, 0.02);
     let v = vec![D2::zero(); x.len()];
     s.set_configuration(x, v).unwrap();
     let mut err = None;

@@ -99,6 +99,7 @@
 
 mod data;
 mod error;
+pub mod input;
 #[cfg(feature = "hdf5-metno")]
 mod metno;
 mod pure;

@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use crate::OutputError;
 
 /// What kind of file-system object `meta` describes, in words (`None` for a regular file).
-fn non_regular_kind(meta: &std::fs::Metadata) -> Option<&'static str> {
+pub(crate) fn non_regular_kind(meta: &std::fs::Metadata) -> Option<&'static str> {
     let t = meta.file_type();
     if t.is_file() {
         return None;
@@ -62,6 +62,86 @@ pub fn check_destination(path: &Path) -> Result<(), OutputError> {
             "a component of its directory is not a directory",
         )),
         Err(e) => Err(OutputError::io(path, "inspect", e)),
+    }
+}
+
+/// `Ok` if a file at `path` (absent, or a regular file) can be replaced by renaming a new file
+/// over it, as every output of a run is: neither the file nor its directory is immutable or
+/// append-only, and a sticky directory (such as `/tmp`) lets this user replace it. Checked
+/// before a run so a result that could not be put in place is refused before it is computed;
+/// the directory's own writability and renames are probed by the caller. Nothing is written.
+pub fn check_replaceable(path: &Path) -> Result<(), OutputError> {
+    #[cfg(target_os = "linux")]
+    {
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        if let Some(why) = attribute_refusal(&dir) {
+            return Err(OutputError::refused(
+                path,
+                format!("its directory {} is {why}", dir.display()),
+            ));
+        }
+        let Ok(meta) = std::fs::symlink_metadata(path) else {
+            return Ok(());
+        };
+        if let Some(why) = attribute_refusal(path) {
+            return Err(OutputError::refused(
+                path,
+                format!("it is {why}, so it cannot be replaced"),
+            ));
+        }
+        use std::os::unix::fs::MetadataExt;
+        if let Ok(d) = std::fs::metadata(&dir) {
+            // SAFETY: geteuid has no preconditions.
+            let me = unsafe { libc::geteuid() };
+            let sticky = d.mode() & libc::S_ISVTX != 0;
+            if sticky && me != 0 && meta.uid() != me && d.uid() != me {
+                return Err(OutputError::refused(
+                    path,
+                    format!(
+                        "it belongs to another user in the sticky directory {}, so it cannot \
+                         be replaced",
+                        dir.display()
+                    ),
+                ));
+            }
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = path;
+    Ok(())
+}
+
+/// `immutable` or `append-only` if the file or directory `path` carries that attribute
+/// (`chattr +i`, `+a`): nothing in it can then be renamed over or removed.
+#[cfg(target_os = "linux")]
+fn attribute_refusal(path: &Path) -> Option<&'static str> {
+    use std::os::unix::fs::OpenOptionsExt;
+    const FS_IMMUTABLE_FL: libc::c_int = 0x10;
+    const FS_APPEND_FL: libc::c_int = 0x20;
+    let file = OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NONBLOCK | libc::O_NOFOLLOW)
+        .open(path)
+        .ok()?;
+    let mut flags: libc::c_int = 0;
+    // SAFETY: FS_IOC_GETFLAGS writes one int to the valid, exclusively borrowed `flags`.
+    let r = unsafe {
+        use std::os::fd::AsRawFd;
+        libc::ioctl(file.as_raw_fd(), libc::FS_IOC_GETFLAGS, &mut flags)
+    };
+    if r != 0 {
+        // A file system without these attributes has none of them.
+        return None;
+    }
+    if flags & FS_IMMUTABLE_FL != 0 {
+        Some("immutable")
+    } else if flags & FS_APPEND_FL != 0 {
+        Some("append-only")
+    } else {
+        None
     }
 }
 
@@ -292,38 +372,66 @@ fn statvfs_available(_path: &Path) -> Option<u64> {
     None
 }
 
-/// Whether `a` and `b` name the same file: the same device and inode when both exist, else the
-/// same absolute path once the parent directories are resolved (for names not created yet).
+/// Whether `a` and `b` name the same file once written: the same device and inode when both
+/// exist, else the same path as [`resolve_for_write`] resolves them.
 pub fn same_file(a: &Path, b: &Path) -> bool {
     #[cfg(unix)]
     {
         use std::os::unix::fs::MetadataExt;
-        if let (Ok(x), Ok(y)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+        let (x, y) = (resolve_for_write(a), resolve_for_write(b));
+        if let (Ok(x), Ok(y)) = (
+            x.as_deref().map_or(std::fs::metadata(a), std::fs::metadata),
+            y.as_deref().map_or(std::fs::metadata(b), std::fs::metadata),
+        ) {
             return x.dev() == y.dev() && x.ino() == y.ino();
         }
     }
-    match (resolved(a), resolved(b)) {
+    match (resolve_for_write(a), resolve_for_write(b)) {
         (Some(x), Some(y)) => x == y,
         _ => false,
     }
 }
 
-/// `path` with its parent directory canonicalised (the parent's nearest existing ancestor, the
-/// rest appended), so `./a/../b.json` and `b.json` compare equal.
-fn resolved(path: &Path) -> Option<PathBuf> {
+/// The file `path` names once its missing directories are created, as a write will resolve
+/// it: its directory component by component, an existing prefix resolved by the file system
+/// (symbolic links, and `..` from where they lead), a missing one as the directory that will
+/// be created (so `sub/../params.toml`, `sub` missing, is `params.toml`: creating `sub` makes
+/// it so); the file name itself as written. `None` if the current directory cannot be read.
+pub fn resolve_for_write(path: &Path) -> Option<PathBuf> {
+    // The last component stays as written: a write renames over it (a symbolic link there is
+    // replaced, or refused, not followed).
     let abs = std::path::absolute(path).ok()?;
-    let mut existing = abs.clone();
-    let mut rest = Vec::new();
-    while !existing.exists() {
-        rest.push(existing.file_name()?.to_os_string());
-        existing = existing.parent()?.to_path_buf();
+    match abs.file_name() {
+        Some(name) => Some(resolve_dirs(abs.parent()?)?.join(name)),
+        None => resolve_dirs(&abs),
     }
-    let mut out = existing.canonicalize().ok()?;
-    for part in rest.iter().rev() {
-        if part == ".." {
-            out.pop();
-        } else if part != "." {
-            out.push(part);
+}
+
+/// `dir` resolved as [`resolve_for_write`] resolves directories, every component.
+fn resolve_dirs(abs: &Path) -> Option<PathBuf> {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    let mut exists = true;
+    for c in abs.components() {
+        match c {
+            Component::Prefix(_) | Component::RootDir => out.push(c.as_os_str()),
+            Component::CurDir => {}
+            Component::ParentDir => {
+                if exists {
+                    out = out.canonicalize().ok()?;
+                }
+                out.pop();
+                exists = out.exists();
+            }
+            Component::Normal(name) => {
+                out.push(name);
+                if exists {
+                    match out.canonicalize() {
+                        Ok(real) => out = real,
+                        Err(_) => exists = false,
+                    }
+                }
+            }
         }
     }
     Some(out)
@@ -419,10 +527,26 @@ mod tests {
         assert!(same_file(&d.join("a/../x.toml"), &d.join("x.toml")));
         assert!(same_file(&d.join("a/../new.json"), &d.join("new.json")));
         assert!(!same_file(&d.join("a/new.json"), &d.join("new.json")));
+        // Through a directory that does not exist yet: the write creates it, then climbs out.
+        assert!(same_file(&d.join("missing/../x.toml"), &d.join("x.toml")));
+        assert!(same_file(
+            &d.join("m/n/../../a/./../x.toml"),
+            &d.join("x.toml")
+        ));
+        assert!(!same_file(&d.join("missing/x.toml"), &d.join("x.toml")));
         #[cfg(unix)]
         {
             std::os::unix::fs::symlink(d.join("x.toml"), d.join("l.toml")).unwrap();
             assert!(same_file(&d.join("l.toml"), &d.join("x.toml")));
+            // `..` after a link to a directory leaves from where the link leads.
+            std::fs::create_dir_all(d.join("deep/inner")).unwrap();
+            std::fs::write(d.join("deep/y.toml"), "").unwrap();
+            std::os::unix::fs::symlink(d.join("deep/inner"), d.join("link")).unwrap();
+            assert!(same_file(&d.join("link/../y.toml"), &d.join("deep/y.toml")));
+            assert!(same_file(
+                &d.join("link/new/../../y.toml"),
+                &d.join("deep/y.toml")
+            ));
         }
         std::fs::remove_dir_all(&d).unwrap();
     }

@@ -8,6 +8,7 @@ use crate::spec::{
 };
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::generate::{
     annulus_polar, tube_polar, Aabb, Difference, FnShape, Intersection, Lattice, ParticleSet,
     Shape, Union,
@@ -27,6 +28,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
+mod checks;
 mod parts;
 
 /// A scene error: the file, the line (when known), the key and what is wrong.
@@ -115,8 +117,8 @@ impl Scene {
     ) -> Result<Self, SceneError> {
         let path = path.as_ref();
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| SceneError::new(&file, None, "file", e.to_string()))?;
+        let text = sph_output::input::read_text_input(path)
+            .map_err(|e| SceneError::new(&file, None, "file", e.reason))?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let stem = path
             .file_stem()
@@ -162,14 +164,16 @@ impl Scene {
             .name
             .clone()
             .unwrap_or_else(|| default_name.to_string());
-        Ok(Self {
+        let scene = Self {
             spec,
             source,
             file: file.into(),
             dir: dir.into(),
             name,
             default_name: default_name.into(),
-        })
+        };
+        scene.check_names()?;
+        Ok(scene)
     }
 
     /// The scene with one more override, `key = value` (see [`Scene::parse_with`]): what
@@ -305,17 +309,11 @@ impl Scene {
         let mut dps = Vec::new();
         for (k, b) in spec.bodies.iter().enumerate() {
             let (part, v) = self.body::<D>(k, b)?;
+            self.check_body_size(k, b, &part)?;
             let r = set
                 .extend(&part)
                 .map_err(|e| self.core(b.span(), &format!("body[{k}]"), e))?;
             velocities.extend(std::iter::repeat_n(v, r.len()));
-            if ranges.iter().any(|(n, _)| *n == b.get_ref().name) {
-                let at = At {
-                    span: b.span(),
-                    key: "name",
-                };
-                return Err(self.error_in(&at, &format!("body[{k}].name"), "names must be unique"));
-            }
             ranges.push((b.get_ref().name.clone(), r));
             dp = dp.min(b.get_ref().dp);
             dps.push(b.get_ref().dp);
@@ -389,17 +387,9 @@ impl Scene {
         let run =
             |solver: &mut dyn Solver<D>| -> Result<(RunRecord, Map<String, Json>), SceneError> {
                 let offered = solver.field_names();
+                // The driver checks the list (offered, none twice) before the run.
                 let names: Vec<String> = match &fields {
-                    Some(f) => {
-                        if let Some(bad) = f.iter().find(|f| !offered.contains(&f.as_str())) {
-                            return Err(self.error_at_key(
-                                "fields",
-                                "output.fields",
-                                format!("`{bad}`: {method} offers {}", offered.join(", ")),
-                            ));
-                        }
-                        f.clone()
-                    }
+                    Some(f) => f.clone(),
                     None => sph_driver::run::DEFAULT_FIELDS
                         .iter()
                         .filter(|f| offered.contains(f))
@@ -495,16 +485,14 @@ impl Scene {
                     pair_storage,
                     ..d
                 };
-                keys.finish(&[
-                    "h_over_dp",
-                    "cfl",
-                    "zeta",
-                    "alpha",
-                    "damping",
-                    "dt_stretch",
-                    "pair_data",
-                ])
-                .map_err(|m| self.error_in(&nat, "numerics", m))?;
+                let mut known = vec!["h_over_dp", "cfl", "damping", "dt_stretch", "pair_data"];
+                known.extend(match method {
+                    "tl-hf" => Some("zeta"),
+                    "tl-gm" => Some("alpha"),
+                    _ => None,
+                });
+                keys.finish(method, &known)
+                    .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
                 let distributed = options.ranks.as_ref().is_some_and(|c| c.size() > 1);
                 // On ranks, each builds the neighbour data of its own share only.
@@ -513,7 +501,7 @@ impl Scene {
                 } else {
                     sph_tl::TlSolver::new(body, law, shear, params)
                 };
-                let mut s = built.map_err(|e| self.core(numerics_span.clone(), "numerics", e))?;
+                let mut s = built.map_err(|e| self.solver_error(e, &numerics_span, &known))?;
                 for sp in pressures {
                     s = s
                         .with_surface_pressure(sp)
@@ -523,7 +511,7 @@ impl Scene {
                     .with_constraints(constraints)
                     .with_loads(loads)
                     .with_tools(tools)
-                    .map_err(|e| self.core(spec.tools[0].span(), "tool", e))?
+                    .map_err(|e| self.tool_error(e))?
                     .with_probes(probes, probe_interval)
                     .map_err(|e| self.core(numerics_span.clone(), "output.probe_interval", e))?;
                 if let Some(r) = &spec.relaxation {
@@ -572,7 +560,7 @@ impl Scene {
                     "ul-og" => sph_ul::Shear::Original,
                     "ul-oas" => sph_ul::Shear::ArtificialStress {
                         epsilon: keys.f64("epsilon", sph_ul::artificial_stress::DEFAULT_EPSILON),
-                        n: keys.f64("n", sph_ul::artificial_stress::DEFAULT_EXPONENT as f64) as u32,
+                        n: keys.count("n", sph_ul::artificial_stress::DEFAULT_EXPONENT),
                     },
                     _ => sph_ul::Shear::NonNested {
                         zeta: keys.opt_f64("zeta"),
@@ -625,22 +613,25 @@ impl Scene {
                     track_shear_stress: options.output.is_some(),
                     ..d
                 };
-                keys.finish(&[
+                let mut known = vec![
                     "h_over_dp",
                     "cfl_acoustic",
                     "cfl_advection",
                     "stepping",
                     "riemann",
-                    "zeta",
-                    "epsilon",
-                    "n",
                     "corrected_gradient",
                     "refresh_kernel_data",
                     "allow_fracture",
-                ])
-                .map_err(|m| self.error_in(&nat, "numerics", m))?;
+                ];
+                known.extend_from_slice(match method {
+                    "ul-oas" => &["epsilon", "n"][..],
+                    "ul-enog" => &["zeta"][..],
+                    _ => &[][..],
+                });
+                keys.finish(method, &known)
+                    .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let mut s = sph_ul::UlSolver::new(body, constants, shear, params)
-                    .map_err(|e| self.core(numerics_span.clone(), "numerics", e))?
+                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?
                     .with_constraints(constraints)
                     .with_loads(loads);
                 if multi {
@@ -679,10 +670,11 @@ impl Scene {
                     integrator,
                     ..d
                 };
-                keys.finish(&["re_over_l0", "courant", "damping", "integrator"])
+                let known = ["re_over_l0", "courant", "damping", "integrator"];
+                keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let mut s = sph_mps::MpsSolver::new(body, law, params)
-                    .map_err(|e| self.core(numerics_span.clone(), "numerics", e))?;
+                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
                 for sp in pressures {
                     s = s
                         .with_surface_pressure(sp)
@@ -782,6 +774,18 @@ impl<'a> Keys<'a> {
         self.opt_f64(key).unwrap_or(default)
     }
 
+    /// A whole number (1 to 2³²−1); the default when absent.
+    fn count(&self, key: &str, default: u32) -> u32 {
+        match self.get(key) {
+            None => default,
+            Some(toml::Value::Integer(i)) if (1..=i64::from(u32::MAX)).contains(i) => *i as u32,
+            Some(_) => {
+                self.fail(key, "a whole number >= 1");
+                default
+            }
+        }
+    }
+
     fn bool(&self, key: &str, default: bool) -> bool {
         match self.get(key) {
             None => default,
@@ -804,14 +808,15 @@ impl<'a> Keys<'a> {
         }
     }
 
-    /// The first wrong type, or the first key the method does not know.
-    fn finish(&self, known: &[&str]) -> Result<(), String> {
+    /// The first wrong type, or the first key `method` does not know (a key of another method
+    /// is refused, not ignored).
+    fn finish(&self, method: &str, known: &[&str]) -> Result<(), String> {
         if let Some(m) = self.wrong.borrow().clone() {
             return Err(m);
         }
         match self.table.keys().find(|k| !known.contains(&k.as_str())) {
             Some(k) => Err(format!(
-                "`{k}` is not a key of this method; its keys: {}",
+                "`{k}` is not a key of method {method}; its keys: {}",
                 known.join(", ")
             )),
             None => Ok(()),

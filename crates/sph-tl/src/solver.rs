@@ -9,7 +9,7 @@ use sph_core::correction::DEFAULT_MIN_EIGENVALUE;
 use sph_core::diagnostics;
 use sph_core::disorder::{disorder_indicator, ReferenceWeights};
 use sph_core::distributed::OverRanks;
-use sph_core::error::{check_non_negative, check_positive};
+use sph_core::error::{check_closed_range, check_non_negative, check_open_range, check_positive};
 use sph_core::parallel::{gather, gather2, max_over};
 use sph_core::pressure::ResolvedPressure;
 use sph_core::relaxation::PairwiseDamper;
@@ -113,6 +113,27 @@ pub struct TlParams {
     /// [`PairStorage::Stored`]; key `pair_data`.
     #[serde(default)]
     pub pair_storage: PairStorage,
+}
+
+impl TlParams {
+    /// The allowed `h_over_dp`, `lo ≤ h/dp ≤ hi`: from a kernel that still reaches the first
+    /// neighbours to one six spacings wide.
+    pub const H_OVER_DP_RANGE: (f64, f64) = (0.5, 3.0);
+    /// The allowed CFL number of eq 33, `lo < CFL < hi`.
+    pub const CFL_RANGE: (f64, f64) = (0.0, 1.0);
+
+    /// Checks every parameter against its range (the ranges the `sph` command's keys and scene
+    /// files share).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), Error> {
+        let (lo, hi) = Self::H_OVER_DP_RANGE;
+        check_closed_range("h_over_dp", self.h_over_dp, lo, hi)?;
+        check_open_range("cfl", self.cfl, Self::CFL_RANGE.0, Self::CFL_RANGE.1)?;
+        check_positive("min_dt_ratio", self.min_dt_ratio)?;
+        check_positive("correction_min_eigenvalue", self.correction_min_eigenvalue)
+    }
 }
 
 impl Default for TlParams {
@@ -471,20 +492,17 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         self.shear.method_name()
     }
 
+    /// Eq 33's step against `min_dt_ratio` of the acoustic step at rest, `CFL h/c`.
+    fn check_time_step(&self) -> Result<(), Error> {
+        let floor = self.params.min_dt_ratio * self.params.cfl * self.kernel.h() / self.sound_speed;
+        diagnostics::check_time_step(self.stable_dt(), floor, self.steps, self.time)
+    }
+
     /// One position-Verlet step (TL paper eq 30–32).
     fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
         self.built("step")?;
+        self.check_time_step()?;
         let stable = self.stable_dt();
-        let min_dt =
-            self.params.min_dt_ratio * self.params.cfl * self.kernel.h() / self.sound_speed;
-        if !(stable.is_finite() && stable > min_dt) {
-            return Err(Error::TimeStepCollapsed {
-                dt: stable,
-                min: min_dt,
-                step: self.steps,
-                time: self.time,
-            });
-        }
         if max_dt.is_nan() || max_dt <= 0.0 {
             return Err(Error::invalid("max_dt", max_dt, "> 0"));
         }

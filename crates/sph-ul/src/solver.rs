@@ -48,7 +48,7 @@ use serde::{Deserialize, Serialize};
 use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
 use sph_core::diagnostics;
 use sph_core::disorder::{affine_fit, disorder_indicator, ReferenceWeights};
-use sph_core::error::check_positive;
+use sph_core::error::{check_closed_range, check_open_range, check_positive};
 use sph_core::neighbor::{apply_permutation, invert_permutation};
 use sph_core::pairs::{fill_pair_kernels, PairSymmetry};
 use sph_core::scene::ProbeSchedule;
@@ -254,7 +254,12 @@ impl<D: Dim> UlSolver<D> {
     /// `interval` of simulated time (0 = every acoustic step), at the first acoustic sub-step
     /// that reaches each sample time (so the samples resolve times shorter than an advection
     /// step). The contact-force series are recorded on the same schedule.
+    ///
+    /// # Errors
+    /// Probes that [`sph_core::scene::check_probes`] refuses; a negative or non-finite
+    /// `interval`.
     pub fn with_probes(mut self, mut probes: Vec<Probe<D>>, interval: f64) -> Result<Self, Error> {
+        sph_core::scene::check_probes(&probes)?;
         self.schedule = ProbeSchedule::every(interval)?;
         let inv = self.inverse_index();
         for p in &mut probes {
@@ -268,6 +273,13 @@ impl<D: Dim> UlSolver<D> {
             self.record_probes();
         }
         Ok(self)
+    }
+
+    /// The blow-up floor of every step and acoustic sub-step: [`diagnostics::MIN_DT_RATIO`] of
+    /// the acoustic step at rest.
+    fn time_step_floor(&self) -> f64 {
+        diagnostics::MIN_DT_RATIO
+            * acoustic_dt(self.params.cfl_acoustic, self.kernel.h(), self.c0, 0.0)
     }
 
     /// `inv[original] = current`.
@@ -460,14 +472,27 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         ]
     }
 
+    /// The step and the first acoustic sub-step the current speeds allow, against
+    /// [`diagnostics::MIN_DT_RATIO`] of the acoustic step at rest (the checks of `step`).
+    fn check_time_step(&self) -> Result<(), Error> {
+        let floor = self.time_step_floor();
+        diagnostics::check_time_step(self.stable_dt(), floor, self.steps, self.time)?;
+        let acoustic = acoustic_dt(
+            self.params.cfl_acoustic,
+            self.kernel.h(),
+            self.c0,
+            self.max_speed,
+        );
+        diagnostics::check_time_step(acoustic, floor, self.steps, self.time)
+    }
+
     /// Dual stepping: one advection step of `min(Δt_ad, max_dt)` (eq 21): rebuild, then
     /// acoustic sub-steps (eq 22–25) until the advection step is filled exactly. Single
     /// stepping: rebuild, then one acoustic step of `min(Δt_ac, max_dt)`.
     fn step(&mut self, max_dt: f64) -> Result<StepInfo, Error> {
         // Blow-up guard (diagnostics::MIN_DT_RATIO of the acoustic step at rest), checked on
         // the advection step here and on every acoustic sub-step below.
-        let floor = diagnostics::MIN_DT_RATIO
-            * acoustic_dt(self.params.cfl_acoustic, self.kernel.h(), self.c0, 0.0);
+        let floor = self.time_step_floor();
         diagnostics::check_time_step(self.stable_dt(), floor, self.steps, self.time)?;
         if max_dt.is_nan() || max_dt <= 0.0 {
             return Err(Error::invalid("max_dt", max_dt, "> 0"));

@@ -24,13 +24,13 @@ pub fn mps_params() -> Vec<Param> {
         Param::float(
             "re_over_l0",
             d.re_over_l0,
-            Range::Open(1.0, 6.0),
+            Range::Open(MpsParams::RE_OVER_L0_RANGE.0, MpsParams::RE_OVER_L0_RANGE.1),
             "weight radius r_e / l0 of MPS eq 6",
         ),
         Param::float(
             "courant",
             d.courant,
-            Range::Open(0.0, 1.0),
+            Range::Open(MpsParams::COURANT_RANGE.0, MpsParams::COURANT_RANGE.1),
             "C of Δt = C l0 / c0",
         ),
         Param::choice(
@@ -55,12 +55,18 @@ pub fn mps_params() -> Vec<Param> {
         Param::float(
             "stabilisation",
             d.stabilisation,
-            Range::Closed(0.0, 100.0),
+            Range::Closed(
+                MpsParams::STABILISATION_RANGE.0,
+                MpsParams::STABILISATION_RANGE.1,
+            ),
             "strength α of the Hamiltonian stabilisation (penalty potential on the residual of \
              the WLS fit, stiffness α μ; beyond the paper); 0 = the paper's model, 3 = the \
              strength docs/validation.md recommends",
         ),
-    ];
+    ]
+    .into_iter()
+    .map(|p| p.only(MPS_METHODS))
+    .collect::<Vec<_>>();
     v.extend(crate::runner::output_params());
     v
 }

@@ -19,17 +19,23 @@ pub fn tl_params() -> Vec<Param> {
         Param::float(
             "h_over_dp",
             1.15,
-            Range::Closed(0.5, 3.0),
+            Range::Closed(TlParams::H_OVER_DP_RANGE.0, TlParams::H_OVER_DP_RANGE.1),
             "smoothing length / dp",
         ),
-        Param::float("cfl", 0.6, Range::Open(0.0, 1.0), "CFL number of TL eq 33"),
-        Param::float("zeta", 1.07, Range::Positive, "ζ of TL-HF (eq 27–28)"),
+        Param::float(
+            "cfl",
+            0.6,
+            Range::Open(TlParams::CFL_RANGE.0, TlParams::CFL_RANGE.1),
+            "CFL number of TL eq 33",
+        ),
+        Param::float("zeta", 1.07, Range::Positive, "ζ of TL-HF (eq 27–28)").only(&["tl-hf"]),
         Param::float(
             "alpha",
             0.1,
             Range::NonNegative,
             "α of the Ganzenmüller penalty (tl-gm)",
-        ),
+        )
+        .only(&["tl-gm"]),
         Param::bool("damping", true, "Kelvin–Voigt damping (TL eq 23–24)"),
         Param::bool(
             "dt_stretch",
@@ -43,7 +49,13 @@ pub fn tl_params() -> Vec<Param> {
             "reference pair data of the force passes: stored, or recomputed every pass (same \
              results; 3D: under 1 KiB per particle, about 2.5x the run time)",
         ),
-    ];
+    ]
+    .into_iter()
+    .map(|p| match p.methods {
+        Some(_) => p,
+        None => p.only(TL_METHODS),
+    })
+    .collect::<Vec<_>>();
     v.extend(crate::runner::output_params());
     v
 }

@@ -20,7 +20,7 @@ pub fn ul_params() -> Vec<Param> {
         Param::float(
             "ul_h_over_dp",
             1.3,
-            Range::Closed(0.5, 3.0),
+            Range::Closed(UlParams::H_OVER_DP_RANGE.0, UlParams::H_OVER_DP_RANGE.1),
             "UL smoothing length / dp",
         ),
         Param::choice(
@@ -34,30 +34,33 @@ pub fn ul_params() -> Vec<Param> {
             0.0,
             Range::NonNegative,
             "ENOG ζ (0: 0.7 d + 2.1, the paper's value for h = 1.3 dp)",
-        ),
+        )
+        .only(&["ul-enog"]),
         Param::choice(
             "enog_form",
             "conservative",
             &["conservative", "non-conservative"],
             "ENOG Laplacian: eq 19 (conservative) or eq 18",
-        ),
+        )
+        .only(&["ul-enog"]),
         Param::float(
             "as_epsilon",
             0.3,
             Range::NonNegative,
             "OAS artificial-stress ε",
-        ),
-        Param::int("as_n", 4, Range::Closed(1.0, 16.0), "OAS exponent n"),
+        )
+        .only(&["ul-oas"]),
+        Param::int("as_n", 4, Range::Closed(1.0, 16.0), "OAS exponent n").only(&["ul-oas"]),
         Param::float(
             "ul_cfl_acoustic",
             0.4,
-            Range::Open(0.0, 1.0),
+            Range::Open(UlParams::CFL_RANGE.0, UlParams::CFL_RANGE.1),
             "CFL_ac of eq 22: Δt_ac = CFL_ac h/(c0 + |v|max)",
         ),
         Param::float(
             "ul_cfl_advection",
             0.2,
-            Range::Open(0.0, 1.0),
+            Range::Open(UlParams::CFL_RANGE.0, UlParams::CFL_RANGE.1),
             "CFL_ad of eq 21: Δt_ad = CFL_ad h/|v|max",
         ),
         Param::bool(
@@ -65,7 +68,8 @@ pub fn ul_params() -> Vec<Param> {
             false,
             "OG/OAS: velocity gradient with the correction matrix B (eq 26); false: eq 14 as \
              printed (energy-consistent)",
-        ),
+        )
+        .only(&["ul-og", "ul-oas"]),
         Param::bool(
             "refresh_kernel_data",
             true,
@@ -95,6 +99,12 @@ pub fn ul_params() -> Vec<Param> {
              (T = 0.346 vs 0.279 at H/dp = 10). `limited-no-jump`: limiter, no jump",
         ),
     ]
+    .into_iter()
+    .map(|p| match p.methods {
+        Some(_) => p,
+        None => p.only(UL_METHODS),
+    })
+    .collect()
 }
 
 /// The UL shear treatment of a method name.

@@ -200,6 +200,7 @@ fn budget_series(samples: &[MonitorSample]) -> Option<Json> {
 pub fn signal_name(sig: usize) -> String {
     match sig {
         1 => "SIGHUP".into(),
+        3 => "SIGQUIT".into(),
         2 => "SIGINT".into(),
         15 => "SIGTERM".into(),
         n => format!("signal {n}"),

@@ -1,10 +1,10 @@
 //! Compressible Mooney–Rivlin-like law of the MPS paper (eq. 12).
 
+use crate::constants::{check_density, check_modulus};
 use crate::material::{cauchy_from_kirchhoff, inverse_or_nan};
 use crate::{ElasticConstants, Material};
 use glam::DMat3;
 use serde::{Deserialize, Serialize};
-use sph_core::error::{check_non_negative, check_positive};
 use sph_core::{Dim, Error, D3};
 
 /// Compressible Mooney–Rivlin-like law, MPS paper eq. 12:
@@ -72,17 +72,19 @@ impl MooneyRivlinLike {
     pub const MPS_PAPER_C2_FRACTION: f64 =
         Self::MPS_PAPER_C2 / (Self::MPS_PAPER_C1 + Self::MPS_PAPER_C2);
 
-    /// The law from its own parameters (MPS eq. 12): `c₁ > 0`, `c₂ ≥ 0`, `λ > 0`, density
-    /// `ρ0 > 0`, all finite. Its [`ElasticConstants`] are the small-strain equivalents
+    /// The law from its own parameters (MPS eq. 12): `c₁`, `λ` and `c₂` (or `c₂ = 0`) within
+    /// [`crate::constants::MODULUS_RANGE`], density within [`crate::constants::DENSITY_RANGE`]. Its [`ElasticConstants`] are the small-strain equivalents
     /// `G = c₁ + c₂`, `K = 2λ`.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming `c1`, `c2`, `lambda` or `density`.
     pub fn new(c1: f64, c2: f64, lambda: f64, density: f64) -> Result<Self, Error> {
-        check_positive("c1", c1)?;
-        check_non_negative("c2", c2)?;
-        check_positive("lambda", lambda)?;
-        check_positive("density", density)?;
+        check_modulus("c1", c1)?;
+        if c2 != 0.0 {
+            check_modulus("c2", c2)?;
+        }
+        check_modulus("lambda", lambda)?;
+        check_density(density)?;
         let constants = ElasticConstants::from_bulk_shear(2.0 * lambda, c1 + c2, density)?;
         Ok(Self {
             c1,

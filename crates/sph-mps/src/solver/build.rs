@@ -5,7 +5,6 @@ use super::{MpsParams, MpsSolver};
 use crate::stabilisation::Stabilisation;
 use crate::wls::{self, weight, Fit};
 use rayon::prelude::*;
-use sph_core::error::{check_non_negative, check_positive};
 use sph_core::neighbor::CellGrid;
 use sph_core::scene::ProbeSchedule;
 use sph_core::{Body, Constraints, Dim, Error, Loads};
@@ -24,17 +23,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         let body: Body<D> = body.into();
         body.validate("mps body")?;
         body.reject_densities("mps")?;
-        if !(params.re_over_l0.is_finite() && params.re_over_l0 > 1.0) {
-            return Err(Error::invalid(
-                "re_over_l0",
-                params.re_over_l0,
-                "finite and > 1 (r_e must reach beyond the nearest neighbours)",
-            ));
-        }
-        check_positive("courant", params.courant)?;
-        check_non_negative("damping", params.damping)?;
-        check_non_negative("stabilisation", params.stabilisation)?;
-        check_positive("moment_min_eigenvalue", params.moment_min_eigenvalue)?;
+        params.validate()?;
         let n = body.len();
         let velocities = body.velocities_or_rest();
         if material.strain_energy_density(D::identity()).is_none() {

@@ -3,6 +3,9 @@
 
 use super::*;
 
+/// Longest line of a particle file, bytes: a line holds four numbers.
+pub(super) const MAX_PARTICLE_LINE: usize = 4096;
+
 impl Scene {
     /// The material's constants and law, with the law's own options (`c2_fraction`, or `c1`,
     /// `c2`, `lambda`, for `mooney-rivlin`; `deviator` for `kirchhoff-vol-dev`).
@@ -147,7 +150,11 @@ impl Scene {
             key: name,
         };
         if !(s.dp.is_finite() && s.dp > 0.0) {
-            return Err(self.error_in(&at("dp"), &key("dp"), format!("{}: allowed: > 0", s.dp)));
+            return Err(self.error_in(
+                &at("dp"),
+                &key("dp"),
+                format!("{}: allowed: > 0", Num(s.dp)),
+            ));
         }
         let set = match (&s.shape, &s.particles) {
             (Some(shape), None) => match s.layout.as_str() {
@@ -188,44 +195,73 @@ impl Scene {
     }
 
     /// A CSV particle file: `x,y[,z],volume` per line, blank lines and `#` comments skipped.
+    /// Read as a stream, line by line (at most [`MAX_PARTICLE_LINE`] bytes each), the particles
+    /// counted against the memory budget as they come, so a file far larger than memory is
+    /// refused before it is held (a FIFO or device is refused at once).
     pub(super) fn particle_file<D: Dim>(
         &self,
         at: &At<'_>,
         key: &str,
         file: &str,
     ) -> Result<ParticleSet<D>, SceneError> {
+        use std::io::{BufRead, Read};
         let path = self.dir.join(file);
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| self.error_in(at, key, format!("{}: {e}", path.display())))?;
+        let fail = |m: String| self.error_in(at, key, format!("{}: {m}", path.display()));
+        let (handle, _) = sph_output::input::open_input(&path, u64::MAX)
+            .map_err(|e| self.error_in(at, key, e.to_string()))?;
+        let mut reader = std::io::BufReader::new(handle);
         let (mut x, mut v) = (Vec::new(), Vec::new());
-        for (no, line) in text.lines().enumerate() {
-            let line = line.trim();
-            if line.is_empty() || line.starts_with('#') {
+        let mut line = Vec::new();
+        let mut allowed = sph_core::budget::remaining::<D>();
+        for no in 1.. {
+            line.clear();
+            let n = (&mut reader)
+                .take(MAX_PARTICLE_LINE as u64 + 1)
+                .read_until(b'\n', &mut line)
+                .map_err(|e| fail(format!("cannot read it: {e}")))?;
+            if n == 0 {
+                break;
+            }
+            if n > MAX_PARTICLE_LINE {
+                return Err(fail(format!(
+                    "line {no} is longer than {MAX_PARTICLE_LINE} bytes"
+                )));
+            }
+            let text = std::str::from_utf8(&line)
+                .map_err(|_| fail(format!("line {no} is not UTF-8 text")))?
+                .trim();
+            if text.is_empty() || text.starts_with('#') {
                 continue;
             }
             let cols: Result<Vec<f64>, _> =
-                line.split(',').map(|c| c.trim().parse::<f64>()).collect();
+                text.split(',').map(|c| c.trim().parse::<f64>()).collect();
             match cols {
                 Ok(c) if c.len() == D::D + 1 => {
                     x.push(D::vector([c[0], c[1], if D::D == 3 { c[2] } else { 0.0 }]));
                     v.push(c[D::D]);
                 }
                 _ => {
+                    return Err(fail(format!(
+                        "{no}: expected {} numbers (coordinates, volume)",
+                        D::D + 1
+                    )))
+                }
+            }
+            if x.len() as u64 > allowed {
+                allowed = sph_core::budget::remaining::<D>();
+                if x.len() as u64 > allowed {
+                    let what = format!("the particle file {}", path.display());
+                    let e = sph_core::budget::exceeded::<D>(x.len() as f64, &what);
                     return Err(self.error_in(
                         at,
                         key,
-                        format!(
-                            "{}:{}: expected {} numbers (coordinates, volume)",
-                            path.display(),
-                            no + 1,
-                            D::D + 1
-                        ),
-                    ))
+                        format!("{e} (and it goes on: stopped reading at line {no})"),
+                    ));
                 }
             }
         }
-        ParticleSet::from_parts(x, v)
-            .map_err(|e| self.error_in(at, key, format!("{}: {e}", path.display())))
+        sph_core::budget::book::<D>(x.len() as u64);
+        ParticleSet::from_parts(x, v).map_err(|e| fail(e.to_string()))
     }
 
     /// A shape as a region of space.
@@ -240,7 +276,7 @@ impl Scene {
             if r.is_finite() && r >= 0.0 {
                 Ok(r)
             } else {
-                Err(bad(format!("{what} = {r}: allowed >= 0")))
+                Err(bad(format!("{what} = {}: allowed >= 0", Num(r))))
             }
         };
         Ok(match s {
@@ -265,7 +301,11 @@ impl Scene {
                 let c = self.vector::<D>(at, key, centre)?;
                 let (a, b) = (radius(*inner, "inner")?, radius(*outer, "outer")?);
                 if a >= b {
-                    return Err(bad(format!("inner = {a} must be below outer = {b}")));
+                    return Err(bad(format!(
+                        "inner = {} must be below outer = {}",
+                        Num(a),
+                        Num(b)
+                    )));
                 }
                 Box::new(FnShape::new(sphere_bounds::<D>(c, b), move |x| {
                     let r = D::norm(x - c);
@@ -867,7 +907,7 @@ impl Scene {
                     return Err(self.error_at_key(
                         k,
                         &format!("output.{k}"),
-                        format!("{v}: allowed >= 0"),
+                        format!("{}: allowed >= 0", Num(v)),
                     ));
                 }
             }

@@ -6,7 +6,6 @@ use super::{Shear, TlParams, TlSolver};
 use crate::damping::damping_coefficient;
 use crate::reference_pairs::{PairScalar, ReferencePairs};
 use sph_core::correction::correction_matrices_counted;
-use sph_core::error::check_positive;
 use sph_core::neighbor::CellGrid;
 use sph_core::scene::ProbeSchedule;
 use sph_core::{Body, Constraints, Dim, Error, Kernel, Loads, NeighborList, WendlandC2};
@@ -101,13 +100,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     fn assemble(body: Body<D>, material: M, shear: Shear, params: TlParams) -> Result<Self, Error> {
         body.validate("tl body")?;
         body.reject_densities("tl")?;
-        check_positive("h_over_dp", params.h_over_dp)?;
-        check_positive("cfl", params.cfl)?;
-        check_positive("min_dt_ratio", params.min_dt_ratio)?;
-        check_positive(
-            "correction_min_eigenvalue",
-            params.correction_min_eigenvalue,
-        )?;
+        params.validate()?;
         shear.validate()?;
         let n = body.len();
         let velocities = body.velocities_or_rest();

@@ -31,11 +31,27 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// receives over each probe interval as the series `/series/<name>`.
     ///
     /// # Errors
-    /// Two tools (or a tool and a named constraint) with the same name.
+    /// A tool name that is not a name ([`sph_core::error::check_name`]); two tools (or a tool
+    /// and a named constraint) with the same name; a tool at or above the body's sound speed.
     pub fn with_tools(mut self, tools: Vec<RigidTool<D>>) -> Result<Self, Error> {
         let mut names: Vec<&str> = self.constraints.named().map(|(_, n)| n).collect();
         for t in &tools {
-            if t.name.is_empty() || names.contains(&t.name.as_str()) {
+            sph_core::error::check_name("tool name", &t.name)?;
+            // Eq 33's step follows the body's wave speed, not the tool's: a tool faster than
+            // sound outruns the contact and collapses the step within a few dozen steps.
+            let speed = t.max_speed();
+            if speed >= self.sound_speed {
+                return Err(Error::invalid(
+                    &format!("speed of tool `{}`", t.name),
+                    sph_core::error::Num(speed),
+                    &format!(
+                        "0 <= tool speed < {} m/s, the body's sound speed c0 (a faster tool \
+                         outruns the contact)",
+                        sph_core::error::Num(self.sound_speed)
+                    ),
+                ));
+            }
+            if names.contains(&t.name.as_str()) {
                 return Err(Error::invalid(
                     "tool name",
                     format!("{:?}", t.name),
@@ -119,7 +135,12 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
 
     /// Attaches probes, recorded at `t = 0` and then every `interval` of simulated time
     /// (0 = every step).
+    ///
+    /// # Errors
+    /// Probes that [`sph_core::scene::check_probes`] refuses; a negative or non-finite
+    /// `interval`.
     pub fn with_probes(mut self, probes: Vec<Probe<D>>, interval: f64) -> Result<Self, Error> {
+        sph_core::scene::check_probes(&probes)?;
         self.schedule = ProbeSchedule::every(interval)?;
         self.probes = probes;
         if self.schedule.due(self.time) {

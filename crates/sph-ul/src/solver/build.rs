@@ -19,15 +19,7 @@ impl<D: Dim> UlSolver<D> {
     ) -> Result<Self, Error> {
         let body: Body<D> = body.into();
         body.validate("ul body")?;
-        check_positive("h_over_dp", params.h_over_dp)?;
-        check_positive("cfl_advection", params.cfl_advection)?;
-        check_positive("cfl_acoustic", params.cfl_acoustic)?;
-        check_positive("speed_floor", params.speed_floor)?;
-        check_positive(
-            "correction_min_eigenvalue",
-            params.correction_min_eigenvalue,
-        )?;
-        check_positive("contact_scale", params.contact_scale)?;
+        params.validate()?;
         shear.validate()?;
         let n = body.len();
         check_per_particle("densities", &body.densities, n, true)?;

@@ -66,6 +66,29 @@ pub struct UlParams {
     pub energy_budget: bool,
 }
 
+impl UlParams {
+    /// The allowed `h_over_dp`, `lo ≤ h/dp ≤ hi` (as TL's).
+    pub const H_OVER_DP_RANGE: (f64, f64) = (0.5, 3.0);
+    /// The allowed CFL numbers of eq 21 and 22, `lo < CFL < hi`.
+    pub const CFL_RANGE: (f64, f64) = (0.0, 1.0);
+
+    /// Checks every parameter against its range (the ranges the `sph` command's keys and scene
+    /// files share).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), Error> {
+        let (lo, hi) = Self::H_OVER_DP_RANGE;
+        check_closed_range("h_over_dp", self.h_over_dp, lo, hi)?;
+        let (lo, hi) = Self::CFL_RANGE;
+        check_open_range("cfl_advection", self.cfl_advection, lo, hi)?;
+        check_open_range("cfl_acoustic", self.cfl_acoustic, lo, hi)?;
+        check_positive("speed_floor", self.speed_floor)?;
+        check_positive("correction_min_eigenvalue", self.correction_min_eigenvalue)?;
+        check_positive("contact_scale", self.contact_scale)
+    }
+}
+
 impl Default for UlParams {
     fn default() -> Self {
         Self {

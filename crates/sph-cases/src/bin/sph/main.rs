@@ -25,24 +25,27 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::Value as Json;
 use sph_cases::preflight::{write_summary, RunFiles};
-use sph_cases::runner::{Interrupt, Progress, ProgressSink};
+use sph_cases::runner::{Progress, ProgressSink};
 use sph_cases::{all_cases, find_case, resolve_method, CaseError, RunOptions, Value};
 use sph_core::budget::{self, Budget};
 use sph_core::state::fnv1a64;
 use sph_driver::{Checkpoint, CheckpointPlan, Every};
-use sph_output::safety::OutputLock;
 use sph_output::{Backend, Compression};
 use sph_scene::Scene;
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
-#[cfg(unix)]
 use std::sync::atomic::AtomicBool;
-use std::sync::atomic::AtomicUsize;
 use std::sync::{Arc, Mutex};
 
+mod console;
+mod job;
 mod progress;
 mod resume;
+mod signals;
+mod threads;
+use console::{print_or_fail, say};
+use job::{job, Job};
 use progress::progress_display;
 use resume::{resume, run_description};
 
@@ -83,9 +86,6 @@ fn abort_ranks_on_error(code: ExitCode) {
     }
     let _ = code;
 }
-
-/// Most worker threads `--threads` accepts.
-const MAX_THREADS: usize = 1024;
 
 #[derive(Parser)]
 #[command(
@@ -201,9 +201,12 @@ struct RunArgs {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return console::argument_error(e),
+    };
     if let Err(e) = start_ranks() {
-        eprintln!("error: {e}");
+        say(&format!("error: {e}"));
         return ExitCode::from(2);
     }
     let code = command(cli);
@@ -216,56 +219,20 @@ fn main() -> ExitCode {
 }
 
 fn command(cli: Cli) -> ExitCode {
-    match cli.command {
+    let result = match cli.command {
         Command::List {
             toml: Some(case),
             method,
             ..
-        } => match template(&case, method.as_deref()) {
-            Ok(text) => match print_out(&text) {
-                Ok(()) => ExitCode::SUCCESS,
-                Err(e) => {
-                    eprintln!("error: writing the template: {e}");
-                    ExitCode::from(1)
-                }
-            },
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::from(2)
-            }
-        },
-        Command::List { verbose, .. } => match print_out(&list(verbose)) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("error: writing the list: {e}");
-                ExitCode::from(1)
-            }
-        },
-        Command::Run(args) => match run(*args) {
-            Ok(code) => code,
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::from(2)
-            }
-        },
-        Command::Resume(args) => match resume(args) {
-            Ok(code) => code,
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::from(2)
-            }
-        },
-    }
-}
-
-/// Writes `text` to stdout. A reader that closed the pipe early (`sph list | head -1`) is not
-/// an error: it has what it wanted.
-fn print_out(text: &str) -> std::io::Result<()> {
-    let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        r => r,
-    }
+        } => template(&case, method.as_deref()).map(|t| print_or_fail(&t, ExitCode::SUCCESS)),
+        Command::List { verbose, .. } => Ok(print_or_fail(&list(verbose), ExitCode::SUCCESS)),
+        Command::Run(args) => run(*args),
+        Command::Resume(args) => resume(args),
+    };
+    result.unwrap_or_else(|e| {
+        say(&format!("error: {e}"));
+        ExitCode::from(2)
+    })
 }
 
 /// A parameter file for `case` with `method`'s defaults, every key commented with its meaning
@@ -290,7 +257,8 @@ fn template(case_name: &str, method: Option<&str>) -> Result<String, CaseError> 
         info.name
     );
     let _ = writeln!(s, "case = \"{}\"\nmethod = \"{method}\"\n", info.name);
-    for p in params.specs() {
+    // Only the method's keys: another method's would be refused.
+    for p in params.specs().iter().filter(|p| p.applies_to(method)) {
         let value = match params.value(p.key) {
             Some(Value::Text(t)) => format!("\"{t}\""),
             Some(Value::Float(x)) => format!("{x:?}"),
@@ -347,119 +315,6 @@ fn list(verbose: bool) -> String {
     s
 }
 
-/// SIGINT and SIGTERM set the returned flag to their number; the run stops after its current
-/// step. A second signal takes the default action (the process ends at once). signal-hook
-/// rather than ctrlc: it tells the signals apart (exit 130 vs 143) and offers that
-/// second-signal escape without a handler thread.
-#[cfg(unix)]
-fn install_signal_handlers() -> Result<Interrupt, CaseError> {
-    use signal_hook::consts::{SIGINT, SIGTERM};
-    use signal_hook::flag;
-    let which: Interrupt = Arc::new(AtomicUsize::new(0));
-    let seen = Arc::new(AtomicBool::new(false));
-    let fail = |e: std::io::Error| CaseError::Config(format!("installing signal handlers: {e}"));
-    for sig in [SIGINT, SIGTERM] {
-        // Order matters: the check for an earlier signal runs before this one is recorded.
-        flag::register_conditional_default(sig, Arc::clone(&seen)).map_err(fail)?;
-        flag::register(sig, Arc::clone(&seen)).map_err(fail)?;
-        flag::register_usize(sig, Arc::clone(&which), sig as usize).map_err(fail)?;
-    }
-    Ok(which)
-}
-
-/// Elsewhere the signals keep their default; the flag is never set.
-#[cfg(not(unix))]
-fn install_signal_handlers() -> Result<Interrupt, CaseError> {
-    Ok(Arc::new(AtomicUsize::new(0)))
-}
-
-/// What `sph run` runs: a built-in case with its parameters, or a scene file.
-enum Job {
-    Case {
-        case: &'static dyn sph_cases::Case,
-        method: &'static str,
-        params: sph_cases::Params,
-    },
-    /// A scene and its file.
-    Scene(Box<Scene>, PathBuf),
-}
-
-/// Whether the argument names a scene file rather than a case.
-fn is_scene_file(arg: &str) -> bool {
-    arg.ends_with(".toml") || std::path::Path::new(arg).is_file()
-}
-
-/// A scene file: `--method`, `--set` and `--config` do not apply (the file holds everything).
-fn scene_job(a: &RunArgs) -> Result<Job, CaseError> {
-    for (flag, given) in [
-        ("--method", a.method.is_some()),
-        ("--set", !a.set.is_empty()),
-        ("--config", a.config.is_some()),
-    ] {
-        if given {
-            return Err(CaseError::Config(format!(
-                "{flag} does not apply to a scene file ({}): edit the file",
-                a.case
-            )));
-        }
-    }
-    Scene::from_file(&a.case)
-        .map(|s| Job::Scene(Box::new(s), PathBuf::from(&a.case)))
-        .map_err(|e| CaseError::Config(e.to_string()))
-}
-
-fn case_job(a: &RunArgs) -> Result<Job, CaseError> {
-    let case = find_case(&a.case)?;
-    let mut method = a.method.clone();
-    // The method decides the defaults (`Case::params_for`), so it is resolved before the
-    // configuration file and the assignments are applied on top of its defaults.
-    let toml = match &a.config {
-        Some(path) => {
-            let text = std::fs::read_to_string(path).map_err(|e| CaseError::Io {
-                path: path.display().to_string(),
-                source: e,
-            })?;
-            let extras = case
-                .params()
-                .apply_toml(&text, &path.display().to_string())?;
-            if let Some(c) = extras.case {
-                if c != a.case {
-                    return Err(CaseError::Config(format!(
-                        "{}: names case `{c}` but `{}` was asked for",
-                        path.display(),
-                        a.case
-                    )));
-                }
-            }
-            match (&method, extras.method) {
-                (Some(m), Some(t)) if *m != t => {
-                    return Err(CaseError::Config(format!(
-                        "{}: method = \"{t}\" contradicts --method {m}; drop one of them",
-                        path.display()
-                    )))
-                }
-                (None, t) => method = t,
-                _ => {}
-            }
-            Some((text, path.display().to_string()))
-        }
-        None => None,
-    };
-    let method = resolve_method(case, method.as_deref())?;
-    let mut params = case.params_for(method);
-    if let Some((text, name)) = &toml {
-        params.apply_toml(text, name)?;
-    }
-    for s in &a.set {
-        params.apply_assignment(s)?;
-    }
-    Ok(Job::Case {
-        case,
-        method,
-        params,
-    })
-}
-
 /// What a run writes and how it runs: `sph run`'s options, or a checkpoint's record of them.
 struct Settings {
     out: PathBuf,
@@ -480,11 +335,7 @@ struct Settings {
 }
 
 fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
-    let job = if is_scene_file(&a.case) {
-        scene_job(&a)?
-    } else {
-        case_job(&a)?
-    };
+    let job = job(&a)?;
     if a.checkpoint.is_some() && a.checkpoint_every.is_none() {
         return Err(CaseError::Config(
             "--checkpoint FILE needs --checkpoint-every INTERVAL".into(),
@@ -571,20 +422,7 @@ fn execute(
             Budget { origin, ..b }
         }
     };
-    if let Some(n) = a.threads {
-        if !(1..=MAX_THREADS).contains(&n) {
-            return Err(CaseError::InvalidValue {
-                key: "threads".into(),
-                value: n.to_string(),
-                allowed: format!("1 <= threads <= {MAX_THREADS}"),
-            });
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .map_err(|e| CaseError::Config(format!("thread pool: {e}")))?;
-    }
-    let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
+    let threads = threads::configure(a.threads)?;
     let (name, method) = match &job {
         Job::Case { case, method, .. } => (case.info().name.to_string(), method.to_string()),
         Job::Scene(scene, _) => (scene.name().to_string(), scene.method().to_string()),
@@ -626,31 +464,19 @@ fn execute(
         other_rank: !root,
     }
     .check()?;
-    // Held for the run: a second run checkpointing to the same file fails fast.
-    let _checkpoint_lock = match (&checkpoint, a.dry_run) {
-        (Some(c), false) => {
-            if let Some(dir) = c.path.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir).map_err(|e| CaseError::Io {
-                    path: dir.display().to_string(),
-                    source: e,
-                })?;
-            }
-            Some(OutputLock::acquire(&c.path)?)
-        }
-        _ => None,
-    };
+    let signals = signals::install()?;
     let options = RunOptions {
         output: results,
         backend,
         compression,
         progress: if root {
-            progress_display(std::io::stderr().is_terminal(), a.log_every)?
+            progress_display(std::io::stderr().is_terminal(), a.log_every, signals.report)?
         } else {
             None
         },
         allow_long_run: a.allow_long_run,
         dry_run: a.dry_run,
-        interrupt: Some(install_signal_handlers()?),
+        interrupt: Some(signals.stop),
         checkpoint,
         resume: resume_from,
         ranks,
@@ -681,7 +507,7 @@ fn execute(
             .expect("summary serialises");
         if let Err(e) = write_summary(path, &text) {
             // The run is done and its results are written: report, and fail the exit status.
-            eprintln!("error: writing the summary: {e}");
+            say(&format!("error: writing the summary: {e}"));
             if record.failure.is_none() && record.interrupted.is_none() {
                 return Ok(ExitCode::from(1));
             }
@@ -702,19 +528,21 @@ fn execute(
     if let Some(f) = &record.file {
         text.push_str(&format!("{:<28} {}\n", "results", f.display()));
     }
-    if let Err(e) = print_out(&text) {
-        eprintln!("error: writing to stdout: {e}");
-    }
+    let code = if record.failure.is_some() {
+        ExitCode::from(1)
+    } else if let Some(sig) = record.interrupted {
+        ExitCode::from((128 + sig).min(255) as u8)
+    } else {
+        ExitCode::SUCCESS
+    };
+    let code = print_or_fail(&text, code);
     if let Some(e) = &record.failure {
-        eprintln!("error: the run stopped early: {e}");
-        return Ok(ExitCode::from(1));
-    }
-    if let Some(sig) = record.interrupted {
-        eprintln!(
+        say(&format!("error: the run stopped early: {e}"));
+    } else if record.interrupted.is_some() {
+        say(&format!(
             "stopped: {}; the results hold everything up to there",
             record.status()
-        );
-        return Ok(ExitCode::from((128 + sig).min(255) as u8));
+        ));
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(code)
 }

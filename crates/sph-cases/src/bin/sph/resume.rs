@@ -85,10 +85,11 @@ pub(super) fn resume_job(c: &Checkpoint) -> Result<(Job, Settings), CaseError> {
         }
         "scene" => {
             let file = text("scene")?;
-            let bytes = std::fs::read(file).map_err(|e| CaseError::Io {
-                path: file.to_string(),
-                source: e,
-            })?;
+            let bytes = sph_output::input::read_input(
+                std::path::Path::new(file),
+                sph_output::input::MAX_TEXT_BYTES,
+            )
+            .map_err(|e| CaseError::Config(format!("the scene file {e}")))?;
             if format!("{:016x}", fnv1a64(&bytes)) != text("scene_checksum")? {
                 return Err(CaseError::Config(format!(
                     "checkpoint {}: the scene file {file} has changed since the checkpoint was \
@@ -186,10 +187,8 @@ pub(super) fn run_description(
             m.insert("params".into(), assignments.into());
         }
         Job::Scene(_, file) => {
-            let bytes = std::fs::read(file).map_err(|e| CaseError::Io {
-                path: file.display().to_string(),
-                source: e,
-            })?;
+            let bytes = sph_output::input::read_input(file, sph_output::input::MAX_TEXT_BYTES)
+                .map_err(|e| CaseError::Config(format!("the scene file {e}")))?;
             m.insert("job".into(), "scene".into());
             m.insert("scene".into(), abs(file)?.into());
             m.insert(

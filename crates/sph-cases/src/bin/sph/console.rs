@@ -1,0 +1,100 @@
+//! What `sph` writes to the terminal, under one rule for every subcommand:
+//!
+//! - **stderr** (errors, progress lines): written line by line, and a failed write (a full
+//!   disk, a closed terminal after SIGHUP, `2>/dev/full`) is ignored. Logging never ends or
+//!   changes a run; its exit status stays the documented 0/1/2.
+//! - **stdout** (the list, a template, a run's figures): a reader that closed the pipe early
+//!   (`sph list | head -1`) has what it wanted, which is not an error; any other failed write is
+//!   one line on stderr and exit status 1, after the run's files are complete.
+//! - **bad arguments**: one line, like every other error (clap's usage text goes to `--help`).
+
+use std::io::Write;
+use std::process::ExitCode;
+
+/// Writes `line` and a newline to stderr; a failure to write is ignored (see the module
+/// documentation).
+pub(super) fn say(line: &str) {
+    let mut err = std::io::stderr().lock();
+    let _ = writeln!(err, "{line}").and_then(|_| err.flush());
+}
+
+/// Writes `text` to stdout. A closed pipe is not an error.
+pub(super) fn print_out(text: &str) -> std::io::Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => r,
+    }
+}
+
+/// Prints `text` to stdout for a command that would otherwise end with `code`: a failed write
+/// is reported and turns a success into exit status 1 (a failure keeps its own status).
+pub(super) fn print_or_fail(text: &str, code: ExitCode) -> ExitCode {
+    match print_out(text) {
+        Ok(()) => code,
+        Err(e) => {
+            say(&format!("error: writing to stdout: {e}"));
+            if code == ExitCode::SUCCESS {
+                ExitCode::from(1)
+            } else {
+                code
+            }
+        }
+    }
+}
+
+/// A command-line parsing error as one line (exit status 2), or the help or version text clap
+/// prints on request (exit status 0).
+pub(super) fn argument_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            let text = e.render().to_string();
+            print_or_fail(&text, ExitCode::SUCCESS)
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand | ErrorKind::MissingSubcommand => {
+            say("error: a subcommand is needed: list, run or resume (see `sph --help`)");
+            ExitCode::from(2)
+        }
+        _ => {
+            say(&one_line(&e.render().to_string()));
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// The first line of a clap error, with a pointer to `--help` in place of its usage text.
+fn one_line(rendered: &str) -> String {
+    let first = rendered
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("error: invalid arguments");
+    let first = first.trim_end_matches('.');
+    let first = if first.starts_with("error:") {
+        first.to_string()
+    } else {
+        format!("error: {first}")
+    };
+    format!("{first} (see `sph --help`)")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clap_errors_become_one_line() {
+        let text = "error: invalid value '-1' for '--threads <THREADS>': invalid digit found in \
+                    string\n\nFor more information, try '--help'.\n";
+        assert_eq!(
+            one_line(text),
+            "error: invalid value '-1' for '--threads <THREADS>': invalid digit found in string \
+             (see `sph --help`)"
+        );
+        assert_eq!(
+            one_line("\n  unexpected argument\n\nUsage: sph run\n"),
+            "error: unexpected argument (see `sph --help`)"
+        );
+    }
+}
