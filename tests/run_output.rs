@@ -165,32 +165,7 @@ fn compression_is_honoured_or_refused() {
 /// `crates/sph-output/tests/xdmf_readers_check.py` on `files`: meshio and VTK read the same
 /// frames, times, points, cells and fields as h5py.
 fn readers_check(files: &[PathBuf]) {
-    let has_h5py = std::process::Command::new("python3")
-        .args(["-c", "import h5py, numpy"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false);
-    if !has_h5py {
-        println!("notice: python3 with h5py not available; XDMF readers check skipped");
-        return;
-    }
-    let script =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/sph-output/tests/xdmf_readers_check.py");
-    let out = std::process::Command::new("python3")
-        .arg(script)
-        .args(files)
-        .output()
-        .expect("run python3");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    println!("{text}");
-    assert!(
-        out.status.success(),
-        "xdmf_readers_check.py failed:\n{text}"
-    );
+    python_check("crates/sph-output/tests/xdmf_readers_check.py", files);
 }
 
 /// Issue 42: a probe samples any output field the solver offers, at every monitor sample, into
@@ -301,4 +276,83 @@ fn probes_sample_any_output_field() {
     );
     assert!(!dir.join("bad.h5").exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 42: with `vtu`, every snapshot is also a VTU file (`<name>_<k>.vtu`) and their
+/// collection `<name>.pvd`, beside the HDF5 file: as many frames, the same times, points and
+/// fields, read back by meshio and VTK (each skipped with a notice when not installed); a
+/// shorter run of the same name removes the frames the longer one left beyond its own.
+#[test]
+fn vtu_frames_and_their_collection_match_the_hdf5_snapshots() {
+    let dir = scratch("vtu");
+    let run = |end: f64| {
+        let mut tl = TlSolver::new(
+            Body::from(plate(1e-3)).with_velocity(|x| DVec2::new(0.0, 5.0 * x.x)),
+            NeoHookean::new(constants()),
+            TlShear::hourglass_free(),
+            TlParams::default(),
+        )
+        .unwrap();
+        Run::until(end)
+            .snapshot_every(5e-5)
+            .write_to(dir.join("plate"))
+            .vtu()
+            .execute(&mut tl)
+            .unwrap()
+            .0
+    };
+    let long = run(4e-4);
+    assert!(dir.join("plate_000008.vtu").is_file());
+    let record = run(2e-4);
+    let pvd = record.collection.clone().unwrap();
+    assert_eq!(pvd, dir.join("plate.pvd"));
+    let text = std::fs::read_to_string(&pvd).unwrap();
+    assert_eq!(text.matches("<DataSet").count(), 5);
+    assert!(dir.join("plate_000004.vtu").is_file());
+    assert!(
+        !dir.join("plate_000005.vtu").exists(),
+        "a stale frame is left"
+    );
+    assert!(long.collection.is_some());
+    // Without a results file there is nowhere to put them.
+    let mut tl = TlSolver::new(
+        Body::from(plate(1e-3)),
+        NeoHookean::new(constants()),
+        TlShear::hourglass_free(),
+        TlParams::default(),
+    )
+    .unwrap();
+    let e = Run::until(1e-4)
+        .vtu()
+        .execute(&mut tl)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("vtu"), "{e}");
+    python_check("crates/sph-output/tests/vtu_readers_check.py", &[pvd]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Runs a check script with python3 when h5py and numpy are there (else a notice).
+fn python_check(script: &str, files: &[PathBuf]) {
+    let has_h5py = std::process::Command::new("python3")
+        .args(["-c", "import h5py, numpy"])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false);
+    if !has_h5py {
+        println!("notice: python3 with h5py not available; {script} skipped");
+        return;
+    }
+    let out = std::process::Command::new("python3")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join(script))
+        .args(files)
+        .output()
+        .expect("run python3");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("{text}");
+    assert!(out.status.success(), "{script} failed:\n{text}");
 }

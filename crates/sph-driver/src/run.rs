@@ -8,6 +8,7 @@ use crate::error::DriverError;
 use serde_json::{json, Map, Value as Json};
 use sph_core::disorder::DisorderStats;
 use sph_core::{Dim, EnergyBudget, Field, Solver, StateReader, StateWriter};
+use sph_output::vtu::VtuSeries;
 use sph_output::{create_writer_with, Backend, Compression, Dataset, ResultWriter};
 use std::path::Path;
 use std::path::PathBuf;
@@ -107,6 +108,10 @@ pub struct RunOptions {
     /// `<output>.xmf`, which presents the ranks' files as one body. Off: rank 0 gathers the
     /// snapshots into the one file `<output>.h5`. Needs `output`.
     pub per_rank_output: bool,
+    /// Also write every snapshot as a VTK XML file `<output>_<k>.vtu` and their collection
+    /// `<output>.pvd` ([`sph_output::vtu`]), which ParaView, PyVista and meshio read without
+    /// an XDMF reader. Needs `output`; not with `per_rank_output`.
+    pub vtu: bool,
 }
 
 /// A flag a signal handler sets to the signal's number (0: not interrupted).
@@ -186,6 +191,13 @@ pub fn drive<D: Dim>(
     }
     let comm = options.ranks.as_ref().filter(|c| c.size() > 1);
     let root = comm.is_none_or(|c| c.rank() == 0);
+    if options.vtu && (options.output.is_none() || options.per_rank_output) {
+        return Err(DriverError::InvalidValue {
+            key: "vtu".into(),
+            value: "on".into(),
+            allowed: "off when no results file is written, or with per-rank output".into(),
+        });
+    }
     if options.per_rank_output && options.output.is_none() {
         return Err(DriverError::InvalidValue {
             key: "per_rank_output".into(),
@@ -261,6 +273,17 @@ pub fn drive<D: Dim>(
     };
     // Per-rank output: this rank's own file of snapshots, and on rank 0 what the XDMF file
     // presenting them as one body needs.
+    // Per-frame VTU files and their collection (rank 0).
+    let mut frames: Option<VtuSeries> = match &options.output {
+        Some(path) if options.vtu && root => {
+            let mut v = VtuSeries::create(path)?;
+            for snap in resumed.iter().flat_map(|d| &d.snapshots) {
+                v.write_frame(snap.time, snap.step, &snap.datasets)?;
+            }
+            Some(v)
+        }
+        _ => None,
+    };
     let mut own: Option<crate::ranks::RankOutput> = match &options.output {
         Some(path) if options.per_rank_output => {
             let rank = comm.map_or(0, |c| c.rank());
@@ -321,6 +344,10 @@ pub fn drive<D: Dim>(
         if t + eps >= next_snapshot {
             let written = write_snapshot(own.as_mut(), writer.as_mut(), solver, fields);
             if let Some((result, sets)) = written {
+                let result = result.and_then(|()| match frames.as_mut() {
+                    Some(v) => v.write_frame(t, solver.step_count(), &sets),
+                    None => Ok(()),
+                });
                 match result {
                     Err(e) => record.failure = Some(format!("writing the results: {e}")),
                     Ok(()) => {
@@ -403,8 +430,14 @@ pub fn drive<D: Dim>(
     // Interrupted between snapshots: keep the state reached (it is a good one).
     if record.interrupted.is_some() && record.failure.is_none() && solver.time() > last_snapshot {
         let written = write_snapshot(own.as_mut(), writer.as_mut(), solver, fields);
-        if let Some((Err(e), _)) = written {
-            record.failure = Some(format!("writing the results: {e}"));
+        if let Some((result, sets)) = written {
+            let result = result.and_then(|()| match frames.as_mut() {
+                Some(v) => v.write_frame(solver.time(), solver.step_count(), &sets),
+                None => Ok(()),
+            });
+            if let Err(e) = result {
+                record.failure = Some(format!("writing the results: {e}"));
+            }
         }
     }
     record.steps = solver.step_count();
@@ -465,6 +498,17 @@ pub fn drive<D: Dim>(
                     first.map(|f| format!("{f}; ")).unwrap_or_default(),
                     temp.display()
                 ));
+                summary.insert("status".into(), json!(record.status()));
+            }
+        }
+    }
+    if let Some(v) = frames {
+        match v.finish() {
+            Ok(pvd) => record.collection = Some(pvd),
+            Err(e) => {
+                record
+                    .failure
+                    .get_or_insert(format!("writing the VTU collection: {e}"));
                 summary.insert("status".into(), json!(record.status()));
             }
         }
@@ -910,6 +954,13 @@ impl Run {
     /// [`Run::write_to`], is an error from [`Run::execute`].
     pub fn compress(mut self, level: u8) -> Self {
         self.options.compression = Compression::Deflate(level);
+        self
+    }
+
+    /// Also writes every snapshot as a VTU file and their `.pvd` collection beside the results
+    /// ([`RunOptions::vtu`]; needs [`Run::write_to`]).
+    pub fn vtu(mut self) -> Self {
+        self.options.vtu = true;
         self
     }
 

@@ -106,6 +106,7 @@ mod pure;
 mod ranks;
 mod read;
 pub mod safety;
+pub mod vtu;
 mod writer;
 pub mod xdmf;
 

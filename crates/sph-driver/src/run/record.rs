@@ -49,6 +49,9 @@ pub struct RunRecord {
     pub estimate: Option<crate::guard::Estimate>,
     /// The results file, if one was written.
     pub file: Option<PathBuf>,
+    /// The `.pvd` collection of the per-frame VTU files, if they were written
+    /// ([`crate::RunOptions::vtu`]).
+    pub collection: Option<PathBuf>,
     /// Neighbour pairs visited by the force evaluations ([`Solver::pair_visits`]).
     pub pair_visits: Option<u64>,
 }
