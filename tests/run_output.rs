@@ -356,3 +356,44 @@ fn python_check(script: &str, files: &[PathBuf]) {
     println!("{text}");
     assert!(out.status.success(), "{script} failed:\n{text}");
 }
+
+/// Issue 42: a results file explains itself: `/meta` has the units, the dimension, the
+/// plane-strain depth of a 2D run, the sign of reaction forces and what a probe holds; every
+/// series its `description` (a tool's and a grip's columns), the same sentences as
+/// `sph_core::conventions` (which the user guide quotes).
+#[test]
+fn results_files_carry_their_units_and_conventions() {
+    use sph_solids::core::conventions;
+    let dir = scratch("conventions");
+    let set = plate(1e-3);
+    let (grip, n) = (set.select(|x| x.x < 1e-3), set.len());
+    let mut grips = Constraints::new();
+    grips
+        .push_named("grip", Constraint::Fixed { particles: grip }, n)
+        .unwrap();
+    let punch = ToolShape::ball(DVec2::new(0.015, 0.009), 0.003).unwrap();
+    let motion = ToolMotion::new(DVec2::new(0.0, -1.0), 1.0, 0.0, f64::INFINITY).unwrap();
+    let mut tl = TlSolver::new(
+        Body::from(set),
+        NeoHookean::new(constants()),
+        TlShear::hourglass_free(),
+        TlParams::default(),
+    )
+    .unwrap()
+    .with_constraints(grips)
+    .with_tools(vec![RigidTool::new("punch", punch, motion)])
+    .unwrap();
+    let (record, _) = Run::until(1e-4)
+        .write_to(dir.join("plate"))
+        .execute(&mut tl)
+        .unwrap();
+    let file = read_file(record.file.unwrap()).unwrap();
+    assert_eq!(file.meta["units"], conventions::UNITS);
+    assert_eq!(file.meta["dimension"], 2);
+    assert_eq!(file.meta["per_unit_depth"], conventions::PLANE_STRAIN);
+    assert_eq!(file.meta["reaction_forces"], conventions::REACTIONS);
+    assert_eq!(file.meta["probes"], conventions::PROBES);
+    assert_eq!(file.series["punch"].description, conventions::TOOL_SERIES);
+    assert_eq!(file.series["grip"].description, conventions::GRIP_SERIES);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -24,6 +24,7 @@ pub mod amplitude;
 pub mod body;
 pub mod budget;
 pub mod comm;
+pub mod conventions;
 pub mod correction;
 pub mod decomposition;
 pub mod diagnostics;

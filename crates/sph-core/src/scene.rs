@@ -632,6 +632,9 @@ pub struct Series {
     pub time: Vec<f64>,
     /// `values[c][k]`: column `c` at sample `k`.
     pub values: Vec<Vec<f64>>,
+    /// What the columns are, their units and signs (written as the series' `description`;
+    /// see [`crate::conventions`]).
+    pub description: String,
 }
 
 impl Series {
@@ -642,7 +645,14 @@ impl Series {
             columns: columns.iter().map(|c| c.to_string()).collect(),
             time: Vec::new(),
             values: vec![Vec::new(); columns.len()],
+            description: String::new(),
         }
+    }
+
+    /// With the description of its columns.
+    pub fn with_description(mut self, description: &str) -> Self {
+        self.description = description.to_string();
+        self
     }
 
     /// Appends one sample (`row` has one value per column).

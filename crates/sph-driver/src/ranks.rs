@@ -67,6 +67,7 @@ impl ResultWriter for Discard {
         _: &str,
         _: &[f64],
         _: &[(&str, &[f64])],
+        _: &str,
     ) -> Result<(), OutputError> {
         Ok(())
     }

@@ -6,6 +6,7 @@
 use crate::checkpoint::{self, Checkpoint, CheckpointPlan, DriverState, Every, SavedSnapshot};
 use crate::error::DriverError;
 use serde_json::{json, Map, Value as Json};
+use sph_core::conventions;
 use sph_core::disorder::DisorderStats;
 use sph_core::{Dim, EnergyBudget, Field, Solver, StateReader, StateWriter};
 use sph_output::vtu::VtuSeries;
@@ -207,6 +208,14 @@ pub fn drive<D: Dim>(
     }
     check_fields(solver, fields)?;
     check_probe_fields(solver, comm.is_some())?;
+    // What the numbers mean, in the file itself (the user guide quotes the same sentences).
+    meta.insert("units".into(), json!(conventions::UNITS));
+    meta.insert("dimension".into(), json!(D::D));
+    if D::D == 2 {
+        meta.insert("per_unit_depth".into(), json!(conventions::PLANE_STRAIN));
+    }
+    meta.insert("reaction_forces".into(), json!(conventions::REACTIONS));
+    meta.insert("probes".into(), json!(conventions::PROBES));
     let estimate = crate::guard::Estimate::of(solver, &schedule, fields, options);
     estimate.check(&schedule, options)?;
     if options.resume.is_none() {
@@ -710,7 +719,7 @@ fn complete<D: Dim>(
             .zip(&s.values)
             .map(|(c, v)| (c.as_str(), v.as_slice()))
             .collect();
-        w.write_series(&s.name, &s.time, &columns)?;
+        w.write_series(&s.name, &s.time, &columns, &s.description)?;
     }
     w.write_summary(summary)?;
     w.finish()

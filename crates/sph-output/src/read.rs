@@ -52,13 +52,15 @@ impl Probe {
     }
 }
 
-/// One series read back: `time` and the columns by name.
+/// One series read back: `time`, the columns by name and the description.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Series {
     /// `time`.
     pub times: Vec<f64>,
     /// The other datasets of the group, by name.
     pub columns: BTreeMap<String, Vec<f64>>,
+    /// The attribute `description` (empty if absent).
+    pub description: String,
 }
 
 /// Everything in a results file.
@@ -201,7 +203,18 @@ pub fn read_file(path: impl AsRef<Path>) -> Result<FileContents, OutputError> {
             let times = columns.remove("time").ok_or_else(|| {
                 OutputError::layout(path, format!("/series/{name} has no `time` dataset"))
             })?;
-            series.insert(name, Series { times, columns });
+            let description = match g.attrs().ok().and_then(|a| a.get("description").cloned()) {
+                Some(AttrValue::String(s) | AttrValue::VarLenString(s)) => s,
+                _ => String::new(),
+            };
+            series.insert(
+                name,
+                Series {
+                    times,
+                    columns,
+                    description,
+                },
+            );
         }
     }
 

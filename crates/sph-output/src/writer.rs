@@ -307,6 +307,7 @@ impl ResultWriter for LayoutWriter {
         name: &str,
         times: &[f64],
         columns: &[(&str, &[f64])],
+        description: &str,
     ) -> Result<(), OutputError> {
         check_name(name).map_err(|e| {
             OutputError::invalid(self.tmp.path(), format!("series name {name:?}: {e}"))
@@ -343,10 +344,18 @@ impl ResultWriter for LayoutWriter {
             }
             sets.push(Dataset::scalars(*c, values));
         }
+        let attrs = if description.is_empty() {
+            Vec::new()
+        } else {
+            vec![(
+                "description".to_string(),
+                Attr::Str(description.to_string()),
+            )]
+        };
         self.sink.write_group(
             &GroupSpec {
                 path: format!("series/{name}"),
-                attrs: Vec::new(),
+                attrs,
                 datasets: sets.iter().collect(),
             },
             false,

@@ -2,6 +2,7 @@
 //! Cauchy stress of the output fields, and the time series of the tools and named constraints.
 
 use super::*;
+use sph_core::conventions;
 
 impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// Empty series for the tools and named constraints, with a first row at the current time.
@@ -25,7 +26,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             if t.motion.rotation().is_some() {
                 columns.push("angle");
             }
-            series.push(Series::new(&t.name, &columns));
+            series.push(Series::new(&t.name, &columns).with_description(conventions::TOOL_SERIES));
         }
         let pos: &[&str] = if D::D == 2 {
             &["x", "y"]
@@ -35,7 +36,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         for (_, name) in self.constraints.named() {
             let mut columns = pos.to_vec();
             columns.extend_from_slice(axes);
-            series.push(Series::new(name, &columns));
+            series.push(Series::new(name, &columns).with_description(conventions::GRIP_SERIES));
         }
         self.series = series;
         self.tool_contacts = vec![0; self.tools.len()];
