@@ -1,6 +1,6 @@
 //! A rubber block on a fixed floor squeezed by a rigid frictionless punch, quasi-statically,
 //! with TL-SPH-HF; writes `out/examples/tl-squeeze.h5` (and `.xmf` for ParaView).
-//! `cargo run --release --example tl_squeeze`
+//! `cargo run --example tl_squeeze`
 use sph_solids::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

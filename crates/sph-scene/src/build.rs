@@ -485,12 +485,7 @@ impl Scene {
                     pair_storage,
                     ..d
                 };
-                let mut known = vec!["h_over_dp", "cfl", "damping", "dt_stretch", "pair_data"];
-                known.extend(match method {
-                    "tl-hf" => Some("zeta"),
-                    "tl-gm" => Some("alpha"),
-                    _ => None,
-                });
+                let known = numerics_keys(method).expect("a method");
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
@@ -609,25 +604,13 @@ impl Scene {
                         .bool("corrected_gradient", d.corrected_velocity_gradient),
                     refresh_kernel_data: keys.bool("refresh_kernel_data", d.refresh_kernel_data),
                     allow_isolated: keys.bool("allow_fracture", d.allow_isolated),
+                    energy_budget: keys.bool("energy_budget", d.energy_budget),
+                    contact_scale: keys.f64("contact_scale", d.contact_scale),
                     // As in the cases: ENOG's τ (output only) is integrated when written.
                     track_shear_stress: options.output.is_some(),
                     ..d
                 };
-                let mut known = vec![
-                    "h_over_dp",
-                    "cfl_acoustic",
-                    "cfl_advection",
-                    "stepping",
-                    "riemann",
-                    "corrected_gradient",
-                    "refresh_kernel_data",
-                    "allow_fracture",
-                ];
-                known.extend_from_slice(match method {
-                    "ul-oas" => &["epsilon", "n"][..],
-                    "ul-enog" => &["zeta"][..],
-                    _ => &[][..],
-                });
+                let known = numerics_keys(method).expect("a method");
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let mut s = sph_ul::UlSolver::new(body, constants, shear, params)
@@ -663,14 +646,30 @@ impl Scene {
                         ))
                     }
                 };
+                let fit = match keys.text("fit", "linear").as_str() {
+                    "linear" => sph_mps::wls::Fit::Linear,
+                    "quadratic" => sph_mps::wls::Fit::Quadratic,
+                    other => {
+                        return Err(self.error_in(
+                            &At {
+                                span: numerics_span.clone(),
+                                key: "fit",
+                            },
+                            "numerics.fit",
+                            format!("`{other}`: allowed values are linear, quadratic"),
+                        ))
+                    }
+                };
                 let params = sph_mps::MpsParams {
                     re_over_l0: keys.f64("re_over_l0", d.re_over_l0),
                     courant: keys.f64("courant", d.courant),
                     damping: keys.f64("damping", d.damping),
+                    stabilisation: keys.f64("stabilisation", d.stabilisation),
                     integrator,
+                    fit,
                     ..d
                 };
-                let known = ["re_over_l0", "courant", "damping", "integrator"];
+                let known = numerics_keys(method).expect("a method");
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let mut s = sph_mps::MpsSolver::new(body, law, params)
@@ -721,6 +720,41 @@ enum Family {
     Tl,
     Ul,
     Mps,
+}
+
+/// The `[numerics]` keys of `method` (`None` for an unknown method): what a scene file may set
+/// for it (docs/user-guide.md's reference lists them with their defaults).
+pub fn numerics_keys(method: &str) -> Option<Vec<&'static str>> {
+    let mut keys = match family_of(method)? {
+        Family::Tl => vec!["h_over_dp", "cfl", "damping", "dt_stretch", "pair_data"],
+        Family::Ul => vec![
+            "h_over_dp",
+            "cfl_acoustic",
+            "cfl_advection",
+            "stepping",
+            "riemann",
+            "corrected_gradient",
+            "refresh_kernel_data",
+            "allow_fracture",
+            "energy_budget",
+            "contact_scale",
+        ],
+        Family::Mps => vec![
+            "re_over_l0",
+            "courant",
+            "damping",
+            "integrator",
+            "stabilisation",
+            "fit",
+        ],
+    };
+    keys.extend_from_slice(match method {
+        "tl-hf" | "ul-enog" => &["zeta"][..],
+        "tl-gm" => &["alpha"][..],
+        "ul-oas" => &["epsilon", "n"][..],
+        _ => &[][..],
+    });
+    Some(keys)
 }
 
 fn family_of(method: &str) -> Option<Family> {
