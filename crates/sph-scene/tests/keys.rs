@@ -813,3 +813,75 @@ fn a_case_parameter_file_says_how_to_run_it() {
         "{e}"
     );
 }
+
+/// The numerics keys added with the reference: MPS `stabilisation` and `fit`, UL
+/// `contact_scale` and `energy_budget`.
+#[test]
+fn the_new_numerics_keys_are_the_library_parameters() {
+    let dir = scratch("numerics");
+    let mps_text = PLATE.replace("tl-hf", "mps")
+        + "\n[numerics]\nstabilisation = 3.0\nfit = \"quadratic\"\n\n[[constraint]]\ntype = \"fixed\"\nregion = { box = { min = [-1.0, -1.0], max = [1e-3, 1.0] } }\n\n[[load]]\ntype = \"gravity\"\nacceleration = [0.0, -500.0]\n";
+    let set = plate_set();
+    let (clamp, n) = (left_end(&set, 1e-3), set.len());
+    let mut loads = Loads::new();
+    loads.add_body_acceleration(None, TimeFunction::constant(DVec2::new(0.0, -500.0)));
+    let params = sph_mps::MpsParams {
+        stabilisation: 3.0,
+        fit: sph_mps::Fit::Quadratic,
+        ..Default::default()
+    };
+    let mut mps = sph_mps::MpsSolver::new(Body::from_set(set, 1e-3), law(), params)
+        .unwrap()
+        .with_constraints(Constraints::fixed(clamp, n).unwrap())
+        .with_loads(loads)
+        .with_probes(Vec::new(), 0.0)
+        .unwrap();
+    let a = run_scene(&parse(&mps_text), &dir, "mps-scene");
+    let b = run_rust(&mut mps, &dir, "mps-rust");
+    assert_identical(&a, &b, "MPS numerics");
+    // Two UL blocks meeting, with a stiffer contact and no energy budget.
+    let ul_text = PLATE.replace("tl-hf", "ul-enog").replace(
+        "max = [0.02, 0.004] } }",
+        "max = [0.01, 0.004] } }\nvelocity = [2.0, 0.0]\n\n[[body]]\nname = \"other\"\ndp = 1e-3\nshape = { box = { min = [0.0105, 0.0], max = [0.0205, 0.004] } }",
+    ) + "\n[numerics]\ncontact_scale = 2.0\nenergy_budget = false\n";
+    let left = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(0.01, 0.004)).unwrap();
+    let right = Aabb::<D2>::new(DVec2::new(0.0105, 0.0), DVec2::new(0.0205, 0.004)).unwrap();
+    let mut set = ParticleSet::fill(&Lattice::new(1e-3, DVec2::ZERO).unwrap(), &left).unwrap();
+    let k = set.len();
+    let other = ParticleSet::fill(
+        &Lattice::new(1e-3, DVec2::new(0.0105, 0.0)).unwrap(),
+        &right,
+    )
+    .unwrap();
+    set.extend(&other).unwrap();
+    let n = set.len();
+    let mut v = vec![DVec2::new(2.0, 0.0); k];
+    v.extend(vec![DVec2::ZERO; n - k]);
+    let body_of: Vec<u32> = (0..n).map(|i| u32::from(i >= k)).collect();
+    let params = sph_ul::UlParams {
+        contact_scale: 2.0,
+        energy_budget: false,
+        ..Default::default()
+    };
+    let constants = ElasticConstants::from_youngs(1e6, 0.3, 1000.0).unwrap();
+    let mut ul = sph_ul::UlSolver::new(
+        Body::from_set(set, 1e-3).with_velocities(v),
+        constants,
+        sph_ul::Shear::NonNested {
+            zeta: None,
+            form: sph_ul::LaplacianForm::Conservative,
+        },
+        params,
+    )
+    .unwrap()
+    .with_constraints(Constraints::new())
+    .with_loads(Loads::new())
+    .with_contact(body_of)
+    .unwrap()
+    .with_probes(Vec::new(), 0.0)
+    .unwrap();
+    let a = run_scene(&parse(&ul_text), &dir, "ul-scene");
+    let b = run_rust(&mut ul, &dir, "ul-rust");
+    assert_identical(&a, &b, "UL numerics");
+    let _ = std::fs::remove_dir_all(&dir);
+}
