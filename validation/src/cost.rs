@@ -5,8 +5,6 @@
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use std::path::PathBuf;
-use std::process::Command;
-use std::time::Instant;
 
 /// Threads of every costed run (the machine has two cores).
 pub const THREADS: usize = 2;
@@ -194,17 +192,11 @@ pub fn run_or_load_writing(
     args.push("--summary".into());
     args.push(summary_path.display().to_string());
     eprintln!("running {id}: {command}");
-    let started = Instant::now();
-    let child = Command::new(&sph)
-        .args(&args)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .map_err(|e| format!("{}: {e}", sph.display()))?;
-    let (exit_code, usage, stderr) = wait_with_usage(child)?;
+    let costed = sph_cases::process::run_costed(&sph, &args, None)?;
     if output {
         let _ = std::fs::remove_dir_all(&out_dir);
     }
+    let exit_code = costed.exit_code;
     // 130/143 (SIGINT/SIGTERM: `sph` stopped cleanly) or 128 + n (killed): the run was stopped
     // from outside, which says nothing about the method; not stored.
     if exit_code >= 128 {
@@ -213,8 +205,6 @@ pub fn run_or_load_writing(
             "{id}: sph was stopped from outside (exit status {exit_code}); not stored"
         ));
     }
-    let wall_seconds = started.elapsed().as_secs_f64();
-    let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
     let mut summary: Map<String, Value> = std::fs::read_to_string(&summary_path)
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok())
@@ -224,12 +214,7 @@ pub fn run_or_load_writing(
     let message = if exit_code == 0 {
         String::new()
     } else {
-        stderr
-            .lines()
-            .find(|l| l.starts_with("error"))
-            .or_else(|| stderr.lines().last())
-            .unwrap_or("")
-            .to_string()
+        costed.message()
     };
     let run = CostedRun {
         id: id.into(),
@@ -238,10 +223,9 @@ pub fn run_or_load_writing(
         set: set.to_vec(),
         command,
         exit_code,
-        cpu_seconds: secs(usage.ru_utime) + secs(usage.ru_stime),
-        wall_seconds,
-        // ru_maxrss is in KiB on Linux.
-        max_rss_mib: usage.ru_maxrss as f64 / 1024.0,
+        cpu_seconds: costed.cpu_seconds(),
+        wall_seconds: costed.wall_seconds,
+        max_rss_mib: costed.peak_bytes / (1u64 << 20) as f64,
         summary,
         message,
     };
@@ -249,33 +233,4 @@ pub fn run_or_load_writing(
     std::fs::write(&path, serde_json::to_string(&run).expect("serialises"))
         .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(run)
-}
-
-/// Waits for `child` with `wait4`, which reports that child's own resource usage; returns the
-/// exit code (128 + signal when killed), the usage and the child's stderr.
-fn wait_with_usage(mut child: std::process::Child) -> Result<(i32, libc::rusage, String), String> {
-    use std::io::Read;
-    // Drain stderr on a thread so a chatty child cannot block on a full pipe.
-    let mut err = child.stderr.take().expect("stderr is piped");
-    let reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        let _ = err.read_to_string(&mut s);
-        s
-    });
-    let pid = child.id() as libc::pid_t;
-    let mut status: libc::c_int = 0;
-    // SAFETY: wait4 writes into the zeroed rusage and the status we own; `pid` is our child,
-    // not yet waited for (std's Child::wait is never called on it).
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    if r != pid {
-        return Err(format!("wait4: {}", std::io::Error::last_os_error()));
-    }
-    let code = if libc::WIFEXITED(status) {
-        libc::WEXITSTATUS(status)
-    } else {
-        128 + libc::WTERMSIG(status)
-    };
-    let stderr = reader.join().unwrap_or_default();
-    Ok((code, usage, stderr))
 }

@@ -15,7 +15,7 @@ pub mod hertz;
 pub mod impacts;
 pub mod mps;
 pub mod mps_stab;
-pub mod plot;
+pub use sph_plot as plot;
 pub mod store;
 pub mod tl;
 pub mod tradeoff;

@@ -21,7 +21,6 @@ use serde_json::{json, Value};
 use sph_benchmarks::scenes::{scenes, Scene};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::Instant;
 
 /// What one run of `sph` cost: wall, user and system seconds and its peak resident memory.
 struct Cost {
@@ -31,32 +30,23 @@ struct Cost {
     peak_rss_bytes: f64,
 }
 
-/// Runs `command` and measures it with `wait4`, which reports the child's own resource usage
-/// (its peak resident set in particular, which `RUSAGE_CHILDREN` only gives as a maximum over
-/// all children so far).
-// The child is reaped by `wait4` below, which clippy cannot see.
-#[allow(clippy::zombie_processes)]
+/// Runs `command` and measures it (`sph_cases::process::measure`: `wait4`, the child's own
+/// resource usage).
 fn run_measured(command: &mut Command) -> (std::process::ExitStatus, Cost) {
     use std::os::unix::process::ExitStatusExt;
-    let t0 = Instant::now();
-    let child = command.spawn().expect("run sph");
-    let mut status: libc::c_int = 0;
-    // SAFETY: wait4 on our own child's pid writes the status and the zeroed rusage we own; the
-    // child is reaped here, and `child` is not waited for again.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    let pid = child.id() as libc::pid_t;
-    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    assert_eq!(r, pid, "wait4 failed: {}", std::io::Error::last_os_error());
-    let wall = t0.elapsed().as_secs_f64();
-    let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    let c = sph_cases::process::measure(command).expect("run and wait for the command");
     let cost = Cost {
-        wall,
-        user: secs(usage.ru_utime),
-        system: secs(usage.ru_stime),
-        // Linux reports ru_maxrss in KiB.
-        peak_rss_bytes: usage.ru_maxrss as f64 * 1024.0,
+        wall: c.wall_seconds,
+        user: c.user_seconds,
+        system: c.system_seconds,
+        peak_rss_bytes: c.peak_bytes,
     };
-    (std::process::ExitStatus::from_raw(status), cost)
+    let status = if c.exit_code >= 128 {
+        std::process::ExitStatus::from_raw(c.exit_code - 128)
+    } else {
+        std::process::ExitStatus::from_raw(c.exit_code << 8)
+    };
+    (status, cost)
 }
 
 fn median_and_spread(mut v: Vec<f64>) -> Value {

@@ -27,6 +27,7 @@ pub mod error;
 pub mod mpi_ranks;
 pub mod params;
 pub mod preflight;
+pub mod process;
 pub mod runner;
 
 /// The checks and estimates made before a run (`sph-driver`'s).

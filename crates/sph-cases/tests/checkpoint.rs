@@ -405,6 +405,11 @@ fn bad_checkpoints_are_refused_before_any_work() {
                 b[good.len() / 2] ^= 0x10;
                 Some(b)
             }
+            "reserved" => {
+                let mut b = good.clone();
+                b[13] ^= 0x01;
+                Some(b)
+            }
             "version" => {
                 let mut b = good.clone();
                 b[8] = 99;

@@ -92,7 +92,14 @@ impl Budget {
     /// its origin; unlimited where the available memory cannot be read (then only
     /// [`MAX_PARTICLES`] applies).
     pub fn from_available_memory() -> Self {
-        match limits::tightest() {
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        Self::available_to(threads)
+    }
+
+    /// [`Budget::from_available_memory`] for a process of `threads` worker threads (each
+    /// reserves address space that `ulimit -v` counts).
+    pub fn available_to(threads: usize) -> Self {
+        match limits::tightest(threads as u64) {
             Some((avail, what)) => Self::with_limit(
                 (avail as f64 * DEFAULT_MEMORY_FRACTION) as u64,
                 format!(
@@ -127,7 +134,8 @@ impl Budget {
 /// address-space and data limits (`ulimit -v`, `ulimit -d`) leave beyond its current size and
 /// its worker threads' reservations. `None` where none can be read.
 pub fn available_memory() -> Option<u64> {
-    limits::tightest().map(|(bytes, _)| bytes)
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    limits::tightest(threads as u64).map(|(bytes, _)| bytes)
 }
 
 struct Scope {

@@ -125,7 +125,7 @@ impl Error {
 }
 
 /// A number as an error message shows it: the shortest form that reads back to the same
-/// value, in scientific notation outside `[1e-3, 1e6)` (`1e300`, not 301 digits; `2.5e-7`,
+/// value, in scientific notation outside `[1e-4, 1e6)` (`1e300`, not 301 digits; `2.5e-7`,
 /// `1e13`), so a message stays one short line whatever the input.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Num(pub f64);
@@ -133,7 +133,7 @@ pub struct Num(pub f64);
 impl std::fmt::Display for Num {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let x = self.0;
-        if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
+        if x == 0.0 || !x.is_finite() || (1e-4..1e6).contains(&x.abs()) {
             write!(f, "{x}")
         } else {
             write!(f, "{x:e}")

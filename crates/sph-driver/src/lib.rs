@@ -44,6 +44,7 @@
 #![deny(missing_docs)]
 
 pub mod checkpoint;
+pub mod convergence;
 pub mod error;
 pub mod guard;
 mod ranks;

@@ -991,7 +991,7 @@ impl Run {
         if !(self.end_time.is_finite() && self.end_time > 0.0) {
             return Err(DriverError::InvalidValue {
                 key: "end_time".into(),
-                value: self.end_time.to_string(),
+                value: sph_core::error::Num(self.end_time).to_string(),
                 allowed: "finite and > 0".into(),
             });
         }

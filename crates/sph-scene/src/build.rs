@@ -70,9 +70,16 @@ impl std::fmt::Display for SceneError {
             .as_ref()
             .map(|o| format!(" (from {o})"))
             .unwrap_or_default();
+        // A file name with a newline or other control character is shown escaped: an error
+        // stays one line.
+        let file = if self.file.chars().any(char::is_control) {
+            format!("{:?}", self.file)
+        } else {
+            self.file.clone()
+        };
         match self.line {
-            Some(l) => write!(f, "{}:{l}: {}{by}: {}", self.file, self.key, self.message),
-            None => write!(f, "{}: {}{by}: {}", self.file, self.key, self.message),
+            Some(l) => write!(f, "{file}:{l}: {}{by}: {}", self.key, self.message),
+            None => write!(f, "{file}: {}{by}: {}", self.key, self.message),
         }
     }
 }

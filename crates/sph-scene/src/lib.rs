@@ -63,6 +63,10 @@
 //! every law's constants; probes of any output field. [`Scene::set`] (the command's `--set`)
 //! overrides any key by its dotted path, or a parameter.
 //!
+//! Names (of the scene, which names the results file `<name>-<method>.h5`, and of bodies,
+//! constraints, tools and probes, which name HDF5 groups) are names, not paths: 1 to 128 bytes
+//! without `/`, `\`, control characters, and not `.` or `..`; each unique in its kind.
+//!
 //! Methods: a TL method runs one body (rigid parts are tools); UL and MPS run any number of
 //! bodies, which meet through the method's body–body contact. A key a method cannot honour is
 //! an error. Errors name the file, the line and the key, or the override that gave the value.

@@ -14,6 +14,7 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Probe, Solver, D3};
@@ -35,8 +36,8 @@ pub fn column_particles(
     if (nz * dp - l).abs() > 1e-9 * l {
         return Err(CaseError::InvalidValue {
             key: "length".into(),
-            value: l.to_string(),
-            allowed: format!("a whole multiple of dp = H/resolution = {dp}"),
+            value: Num(l).to_string(),
+            allowed: format!("a whole multiple of dp = H/resolution = {}", Num(dp)),
         });
     }
     let below = clamp_layers as f64 * dp;

@@ -45,6 +45,7 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::generate::{annulus_polar, ParticleSet};
 use sph_core::Body;
 use sph_core::{Probe, Solver, D2};
@@ -153,9 +154,10 @@ impl Case for CollidingRings2d {
         if !ul && gap < re {
             return Err(CaseError::InvalidValue {
                 key: "gap".into(),
-                value: gap.to_string(),
+                value: Num(gap).to_string(),
                 allowed: format!(
-                    "gap >= r_e = re_over_l0·dp = {re} (closer rings would share reference neighbours)"
+                    "gap >= r_e = re_over_l0·dp = {} (closer rings would share reference neighbours)",
+                    Num(re)
                 ),
             });
         }

@@ -11,6 +11,7 @@ use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::finite_or_null;
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::{Dim, Field, Solver};
 
 /// The contact key of the impact cases: the scale `κ` of the contact pressure.
@@ -60,7 +61,7 @@ pub fn layout_param(default: &'static str) -> Param {
 pub fn invalid(key: &str, value: f64, allowed: String) -> CaseError {
     CaseError::InvalidValue {
         key: key.into(),
-        value: value.to_string(),
+        value: Num(value).to_string(),
         allowed,
     }
 }

@@ -22,6 +22,7 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::generate::{Aabb, Lattice, ParticleSet, Shape};
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Probe, Solver, D2};
@@ -140,8 +141,11 @@ pub fn plate_particles(
     if (nl * dp - length).abs() > 1e-9 * length {
         return Err(CaseError::InvalidValue {
             key: "length".into(),
-            value: length.to_string(),
-            allowed: format!("a whole multiple of dp = thickness/resolution = {dp}"),
+            value: Num(length).to_string(),
+            allowed: format!(
+                "a whole multiple of dp = thickness/resolution = {}",
+                Num(dp)
+            ),
         });
     }
     let bw = base_layers as f64 * dp;

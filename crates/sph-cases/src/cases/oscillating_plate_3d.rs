@@ -16,6 +16,7 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Probe, Solver, D3};
@@ -85,8 +86,11 @@ impl Case for OscillatingPlate3d {
             if ((len / dp).round() * dp - len).abs() > 1e-9 * len {
                 return Err(CaseError::InvalidValue {
                     key: key.into(),
-                    value: len.to_string(),
-                    allowed: format!("a whole multiple of dp = thickness/resolution = {dp}"),
+                    value: Num(len).to_string(),
+                    allowed: format!(
+                        "a whole multiple of dp = thickness/resolution = {}",
+                        Num(dp)
+                    ),
                 });
             }
         }

@@ -22,6 +22,7 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::generate::tube_polar;
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Solver, D3};
@@ -90,8 +91,11 @@ impl Case for PullingCylinder3d {
         if r < 1.5 * dp {
             return Err(CaseError::InvalidValue {
                 key: "radius".into(),
-                value: r.to_string(),
-                allowed: format!("at least 1.5 dp = 1.5 height/resolution = {}", 1.5 * dp),
+                value: Num(r).to_string(),
+                allowed: format!(
+                    "at least 1.5 dp = 1.5 height/resolution = {}",
+                    Num(1.5 * dp)
+                ),
             });
         }
         let (rho, e, nu) = (p.f64("density"), p.f64("youngs_modulus"), p.f64("nu"));

@@ -26,6 +26,7 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::Body;
@@ -118,10 +119,10 @@ impl Case for PunchingStrip2d {
         if pw > MAX_PUNCH_WIDTH_RATIO * w {
             return Err(CaseError::InvalidValue {
                 key: "punch_width".into(),
-                value: pw.to_string(),
+                value: Num(pw).to_string(),
                 allowed: format!(
                     "0 < punch_width <= {MAX_PUNCH_WIDTH_RATIO} × width = {}",
-                    MAX_PUNCH_WIDTH_RATIO * w
+                    Num(MAX_PUNCH_WIDTH_RATIO * w)
                 ),
             });
         }
@@ -129,10 +130,10 @@ impl Case for PunchingStrip2d {
         if corner > 0.5 * t.min(pw) {
             return Err(CaseError::InvalidValue {
                 key: "punch_corner_radius".into(),
-                value: corner.to_string(),
+                value: Num(corner).to_string(),
                 allowed: format!(
                     "0 <= punch_corner_radius <= half the punch thickness and width = {}",
-                    0.5 * t.min(pw)
+                    Num(0.5 * t.min(pw))
                 ),
             });
         }
@@ -219,8 +220,11 @@ pub fn strip_particles(
     if nx < 2.0 || (nx * dp - w).abs() > 1e-9 * w {
         return Err(CaseError::InvalidValue {
             key: "width".into(),
-            value: w.to_string(),
-            allowed: format!("a whole multiple (≥ 2) of dp = height/resolution = {dp}"),
+            value: Num(w).to_string(),
+            allowed: format!(
+                "a whole multiple (≥ 2) of dp = height/resolution = {}",
+                Num(dp)
+            ),
         });
     }
     let corner = DVec2::new(-0.5 * w, -0.5 * h);

@@ -31,6 +31,7 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Field, Solver, TimeFunction, D2};
@@ -100,8 +101,11 @@ impl Case for SlabTension2d {
         if (nx * dp - l).abs() > 1e-9 * l {
             return Err(CaseError::InvalidValue {
                 key: "length".into(),
-                value: l.to_string(),
-                allowed: format!("a whole multiple of dp = thickness/resolution = {dp}"),
+                value: Num(l).to_string(),
+                allowed: format!(
+                    "a whole multiple of dp = thickness/resolution = {}",
+                    Num(dp)
+                ),
             });
         }
         let lo = DVec2::new(-0.5 * l, -0.5 * h);
@@ -112,11 +116,11 @@ impl Case for SlabTension2d {
         if !(w > 0.5 * dp && w < 0.5 * l) {
             return Err(CaseError::InvalidValue {
                 key: "strip_width".into(),
-                value: w.to_string(),
+                value: Num(w).to_string(),
                 allowed: format!(
-                    "dp/2 = {:?} < strip_width < length/2 = {:?}",
-                    0.5 * dp,
-                    0.5 * l
+                    "dp/2 = {} < strip_width < length/2 = {}",
+                    Num(0.5 * dp),
+                    Num(0.5 * l)
                 ),
             });
         }

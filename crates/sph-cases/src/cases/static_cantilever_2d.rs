@@ -25,6 +25,7 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Loads, Solver, TimeFunction, D2};
@@ -104,8 +105,11 @@ impl Case for StaticCantilever2d {
         if (nx * dp - l).abs() > 1e-9 * l {
             return Err(CaseError::InvalidValue {
                 key: "length".into(),
-                value: l.to_string(),
-                allowed: format!("a whole multiple of dp = thickness/resolution = {dp}"),
+                value: Num(l).to_string(),
+                allowed: format!(
+                    "a whole multiple of dp = thickness/resolution = {}",
+                    Num(dp)
+                ),
             });
         }
         let behind = p.int("clamp_layers") as f64 * dp;

@@ -31,6 +31,7 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
+use sph_core::error::Num;
 use sph_core::generate::{tube_polar, ParticleSet};
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::Body;
@@ -212,8 +213,24 @@ impl Case for Stent3d {
         if pattern.wall >= pattern.outer_radius {
             return Err(CaseError::InvalidValue {
                 key: "wall".into(),
-                value: pattern.wall.to_string(),
-                allowed: format!("0 < wall < diameter/2 = {}", pattern.outer_radius),
+                value: Num(pattern.wall).to_string(),
+                allowed: format!("0 < wall < diameter/2 = {}", Num(pattern.outer_radius)),
+            });
+        }
+        // The point forces and punches act at the mid-length nodes on the ±y sides: nodes sit
+        // there only for an even number of cells along and a multiple of 4 around.
+        if !pattern.cells_along.is_multiple_of(2) {
+            return Err(CaseError::InvalidValue {
+                key: "cells_along".into(),
+                value: pattern.cells_along.to_string(),
+                allowed: "an even number (the loads act at the nodes at mid-length)".into(),
+            });
+        }
+        if !pattern.cells_around.is_multiple_of(4) {
+            return Err(CaseError::InvalidValue {
+                key: "cells_around".into(),
+                value: pattern.cells_around.to_string(),
+                allowed: "a multiple of 4 (the loads act at the nodes on the ±y sides)".into(),
             });
         }
         let layers = p.int("wall_layers") as usize;
@@ -221,8 +238,8 @@ impl Case for Stent3d {
         if pattern.strut_width < 2.0 * dp {
             return Err(CaseError::InvalidValue {
                 key: "strut_width".into(),
-                value: pattern.strut_width.to_string(),
-                allowed: format!("at least 2 dp = 2 wall/wall_layers = {}", 2.0 * dp),
+                value: Num(pattern.strut_width).to_string(),
+                allowed: format!("at least 2 dp = 2 wall/wall_layers = {}", Num(2.0 * dp)),
             });
         }
         let (rho, e, nu) = (p.f64("density"), p.f64("youngs_modulus"), p.f64("nu"));
@@ -243,11 +260,12 @@ impl Case for Stent3d {
         };
         let (plus, minus) = (near(1.0), near(-1.0));
         if plus.is_empty() || minus.is_empty() {
-            return Err(CaseError::Config(
-                "stent-3d: no particles near the mid-length nodes at ±y (cells_along must be \
-                 even and cells_around a multiple of 4 for nodes to sit there)"
-                    .into(),
-            ));
+            return Err(CaseError::Config(format!(
+                "stent-3d: no particle within strut_width = {} m of the mid-length nodes' outer \
+                 points at ±y (particle spacing {} m): widen the struts or add wall_layers",
+                Num(pattern.strut_width),
+                Num(dp)
+            )));
         }
         let loading = p.text("loading").to_string();
         let mut loads = Loads::<D3>::new();

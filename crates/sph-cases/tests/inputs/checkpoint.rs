@@ -3,13 +3,19 @@
 
 /// Damaged checkpoints for `sph resume`: (what, the damage, the expected words). Damages:
 /// `missing`, `half` (the first half), `header` (the first 20 bytes), `flip` (one bit in the
-/// middle), `version` (format version 99), `foreign` (a TOML file), `other-run` (the run
-/// description of another resolution, re-checksummed).
+/// middle), `reserved` (one bit of the header's 4 reserved bytes), `version` (format version
+/// 99), `foreign` (a TOML file), `other-run` (the run description of another resolution,
+/// re-checksummed).
 pub const BAD_CHECKPOINTS: &[(&str, &str, &str)] = &[
     ("a missing checkpoint", "missing", "cannot read it"),
     ("a truncated checkpoint", "half", "truncated"),
     ("a checkpoint cut inside its header", "header", "truncated"),
     ("a flipped bit", "flip", "checksum"),
+    (
+        "a flipped bit in the header's reserved bytes",
+        "reserved",
+        "reserved bytes 12-15 are not zero",
+    ),
     (
         "another format version",
         "version",

@@ -2,6 +2,10 @@
 //! number of inputs their tables hold), the guards and their limits, checkpoints.
 
 use super::checkpoint_inputs::{BAD_CHECKPOINTS, CHECKPOINT_REFUSED};
+use super::hostile_inputs::{
+    ARGUMENT_ERRORS, BAD_PART_NAMES, BAD_SCENE_NAMES, BAD_THREAD_VARIABLES, FAMILY_RANGES,
+    LATE_REFUSALS, NON_REGULAR_INPUTS, OTHER_METHOD_KEYS, PATHS_THROUGH_DOTS, SCENE_RANGES,
+};
 use super::run_inputs::{
     extreme_inputs, malformed_inputs, ABSURD_VALUES, BAD_SCHEDULES, BLOW_UPS, CLOSED_PIPES,
     GOOD_SCHEDULES, RESULTS_REFUSED, SUMMARY_REFUSED, TOO_LARGE,
@@ -9,7 +13,7 @@ use super::run_inputs::{
 
 /// One row of the table in `docs/reliability.md`.
 struct Class {
-    /// The issue's item.
+    /// The issue's item (`40.3`: issue 40, item 3; a bare number: issue 14).
     item: &'static str,
     /// What was tried.
     class: &'static str,
@@ -144,8 +148,8 @@ const CLASSES: &[Class] = &[
     Class {
         item: "checkpoints",
         class: "`sph resume` of a missing checkpoint, one truncated (in its body, in its \
-                header), a flipped bit, another format version, a file that is no checkpoint, \
-                the state of another case's run",
+                header), a flipped bit (in the body, in the header's reserved bytes), another \
+                format version, a file that is no checkpoint, the state of another case's run",
         count: || BAD_CHECKPOINTS.len(),
         outcome: "rc 2 before any work, one line naming the file and the problem; nothing \
                   written",
@@ -207,6 +211,138 @@ const CLASSES: &[Class] = &[
                   nothing written",
         test: "extreme_values_of_every_key_never_crash",
     },
+    Class {
+        item: "40.1",
+        class: "scene names that are paths or no names: absolute, `../`, `a/b`, a newline, a \
+                tab, NUL, a backslash, empty, `.`, `..`, 300 bytes; body, constraint, tool and \
+                probe names likewise; a scene named after a file whose name holds a newline",
+        count: || BAD_SCENE_NAMES.len() + BAD_PART_NAMES.len() + 1,
+        outcome: "rc 2 when the file is read, one line naming the key (`name`, \
+                  `probe[0].name`, …); nothing written anywhere (before: the results went \
+                  where the name pointed and replaced another run's)",
+        test: "hostile::names_in_scene_files_are_names_not_paths",
+    },
+    Class {
+        item: "40.2",
+        class: "`--summary ./sub/../cfg.toml` (`sub` missing) with `--config cfg.toml`, two \
+                missing levels, `--checkpoint new/../cfg.toml`, `..` after a link; a run \
+                refused while its scene is built, with new output directories",
+        count: || PATHS_THROUGH_DOTS.len() + 1,
+        outcome: "rc 2 before the run: outputs compared with the inputs as the write \
+                  resolves them (before: the summary replaced the `--config` file); no \
+                  directory created",
+        test: "hostile::outputs_are_compared_with_the_inputs_as_the_write_resolves_them",
+    },
+    Class {
+        item: "40.3",
+        class: "two probes of one name, a field written twice or unknown, a tool named like a \
+                constraint",
+        count: || LATE_REFUSALS.len(),
+        outcome: "rc 2 before any work, not even `--out` created (before: rc 1 after the \
+                  whole run, an orphan `.tmp`, no results)",
+        test: "hostile::set_ups_refused_only_after_the_run_are_refused_before_it",
+    },
+    Class {
+        item: "40.4",
+        class: "an immutable earlier results file or summary, an append-only or immutable \
+                results directory (`chattr`; skipped with a notice where unavailable)",
+        count: || 4,
+        outcome: "rc 2 before the run, one line saying why it cannot be replaced; nothing \
+                  changed",
+        test: "hostile::outputs_that_cannot_be_replaced_are_refused_before_the_run",
+    },
+    Class {
+        item: "40.5",
+        class: "stderr on a full disk (`2>/dev/full`) for bad input and for a run logging \
+                every step; stdout on a full disk for `list`, `list --toml`, `run`, `--help`",
+        count: || 6,
+        outcome: "stderr: the exit status it would have (2; 0 with its results complete), \
+                  never a panic (before: rc 101, only a `.tmp` left); stdout: one line on \
+                  stderr and rc 1, the results complete",
+        test: "hostile::logging_never_kills_a_run_and_stdout_failures_are_one_rule",
+    },
+    Class {
+        item: "40.6",
+        class: "`RAYON_NUM_THREADS` 1500, 5000, `abc`, `-1`, `2.5`; and 3",
+        count: || BAD_THREAD_VARIABLES.len() + 1,
+        outcome: "rc 2, one line naming `RAYON_NUM_THREADS` and the range 1-1024 (before: \
+                  1,500 threads, or a panic building the pool); 3 is used",
+        test: "hostile::thread_counts_from_the_environment_are_held_to_the_limit",
+    },
+    Class {
+        item: "40.7",
+        class: "a FIFO, `/dev/zero` or a 2 GiB file as `--config`, scene file, particle file \
+                or checkpoint",
+        count: || NON_REGULAR_INPUTS.len(),
+        outcome: "rc 2 at once, one line (not a regular file; more than 16 MiB of text; a \
+                  particle line over 4096 bytes; a checkpoint's header announcing more than \
+                  the memory limit); before: a hang or the whole file read",
+        test: "hostile::inputs_that_are_not_regular_files_or_too_large_are_refused_at_once",
+    },
+    Class {
+        item: "40.8",
+        class: "SIGHUP, SIGQUIT, SIGUSR1 during a run",
+        count: || 3,
+        outcome: "SIGHUP, SIGQUIT: rc 129, 131, the step finished and the results completed \
+                  with the signal in the status (before: no results); SIGUSR1: a progress \
+                  line, the run goes on",
+        test: "hostile::hangup_and_quit_keep_the_results_and_usr1_reports_progress",
+    },
+    Class {
+        item: "40.9",
+        class: "a 3.5 GiB column and a 63 MB one under `ulimit -v 1048576` (1 GiB)",
+        count: || 2,
+        outcome: "the first rc 2 before the run naming the address-space limit (before: an \
+                  abort, rc 134), the second accepted",
+        test: "hostile::the_memory_guard_honours_the_address_space_limit",
+    },
+    Class {
+        item: "40.10",
+        class: "10,002 probes",
+        count: || 1,
+        outcome: "rc 2 before any work: at most 10,000 (before: 200,000 probes took over a \
+                  minute to write)",
+        test: "hostile::probe_counts_are_limited",
+    },
+    Class {
+        item: "40.11, 40.12",
+        class: "scene files with `density = 1e300`, `youngs_modulus = 1e-300`, `cfl = 10`, \
+                `h_over_dp = 50`, a tool at 1e300 m/s, `zeta` with tl, a body of 2 particles, \
+                a body too soft for its punch; UL `cfl_acoustic = 10`, MPS `courant = 10`, \
+                `epsilon` with ul-enog",
+        count: || SCENE_RANGES.len() + FAMILY_RANGES.len(),
+        outcome: "rc 2 before the run, one line naming the file, line and key \
+                  (`material.density`, `numerics.cfl`, `tool[0].speed`, `body[0].dp`) with \
+                  short numbers (`1e300`); before: rc 0, or rc 1 mid-run",
+        test: "hostile::scene_files_get_the_range_checks_of_case_keys",
+    },
+    Class {
+        item: "40.12",
+        class: "case keys of another method (`zeta` with tl, `as_epsilon` with ul-enog, `cfl` \
+                with ul-og); two soft discs thrown far faster than their sound speed",
+        count: || OTHER_METHOD_KEYS.len() + 1,
+        outcome: "rc 2 before the run naming the key and its methods; the discs: the run \
+                  cannot take its first step (before: rc 1 at step 0)",
+        test: "hostile::keys_of_another_method_and_first_steps_that_cannot_be_taken_are_refused",
+    },
+    Class {
+        item: "40.14",
+        class: "a file named like a case in the working directory; `./NAME`; a parameter \
+                file of `sph list --toml` run as a scene",
+        count: || 3,
+        outcome: "the name refused as ambiguous (rc 2), `./NAME` runs the file; the \
+                  parameter file: rc 2 saying what it is and the command that runs it",
+        test: "hostile::a_case_name_that_is_also_a_file_is_ambiguous",
+    },
+    Class {
+        item: "40.15",
+        class: "`--threads -1`, `--threads abc`, `--compress=-1`, an unknown flag, a flag \
+                without its value, no case, no subcommand, an unknown subcommand, a bad \
+                `--log-every`, a non-UTF-8 argument",
+        count: || ARGUMENT_ERRORS.len() + 1,
+        outcome: "rc 2, one line (before: clap's usage text); `--help` still prints help",
+        test: "hostile::argument_errors_are_one_line",
+    },
 ];
 
 /// `docs/reliability.md`: the exit statuses, a row per class of [`CLASSES`], the guards and
@@ -220,9 +356,10 @@ pub fn render_doc() -> String {
         "# Reliability\n\n\
          <!-- Generated by `SPH_UPDATE_DOCS=1 cargo test -p sph-cases --test robustness \
          reliability_doc_is_current`; do not edit by hand. -->\n\n\
-         How `sph` behaves on hostile but fair input (issue 14). Every row is run by the test \
-         named in `crates/sph-cases/tests/robustness.rs` (`checkpoint::…`: in \
-         `crates/sph-cases/tests/checkpoint.rs`), part of `cargo test --workspace`, which \
+         How `sph` behaves on hostile but fair input (issues 14 and 40). Every row is run by \
+         the test named in `crates/sph-cases/tests/robustness.rs` (`checkpoint::…`: in \
+         `crates/sph-cases/tests/checkpoint.rs`; `hostile::…`: in \
+         `crates/sph-cases/tests/hostile.rs`), part of `cargo test --workspace`, which \
          asserts the outcome; this page is rendered from the same tables, and a test fails \
          when it is out of date. Regenerate it with\n\n\
          ```sh\n\
@@ -232,9 +369,12 @@ pub fn render_doc() -> String {
          | status | meaning |\n\
          |---|---|\n\
          | 0 | completed (or `--dry-run`: checked and estimated, nothing run or written) |\n\
-         | 1 | the run started and failed (blow-up, write error): the results file is completed with everything up to the last good step and `status: failed: …` |\n\
+         | 1 | the run started and failed (blow-up, write error): the results file is completed with everything up to the last good step and `status: failed: …`; or stdout could not be written (a full disk; a reader that closed the pipe is no error), the results complete |\n\
          | 2 | bad input: one line on stderr naming the argument or key and what is allowed; nothing written |\n\
-         | 130, 143 | interrupted by SIGINT, SIGTERM: the current step finished, the file completed with `status: interrupted at t = …`, the summary written (a second signal ends the process at once) |\n\n\
+         | 129, 130, 131, 143 | interrupted by SIGHUP, SIGINT, SIGQUIT, SIGTERM: the current step finished, the file completed with `status: interrupted at t = …`, the summary written (a second signal ends the process at once) |\n\n\
+         Every message is one line on stderr; a failed write to stderr (a closed terminal, a \
+         full disk) is ignored, so logging never ends a run or changes its status. SIGUSR1 or \
+         SIGUSR2 prints a progress line and the run goes on.\n\n\
          ## Inputs tried\n\n\
          | issue item | input class | inputs | outcome | test |\n\
          |---|---|---|---|---|\n",
@@ -253,16 +393,21 @@ pub fn render_doc() -> String {
         "## Guards and their limits\n\n\
          | guard | where | limit |\n\
          |---|---|---|\n\
-         | particles | the generators of `sph_core::generate`, before they allocate (`sph_core::budget`) | estimated peak memory = particles × {b2} B (2D) or {b3} B (3D), measured per method (table in `sph_core::budget`), at most {frac:.0} % of the available memory (`MemAvailable`, lowered by a cgroup limit) or `--max-memory GIB`; the counts of one run add up; never more than 2³² − 1 particles |\n\
+         | particles | the generators of `sph_core::generate` and particle files, before they allocate (`sph_core::budget`) | estimated peak memory = particles × {b2} B (2D) or {b3} B (3D), measured per method (table in `sph_core::budget`), at most {frac:.0} % of the least of the memory available (`MemAvailable`), what the memory cgroup leaves at every level of its hierarchy (v1, v2) and what `ulimit -v` / `ulimit -d` leave (beyond the process's size and its threads' reservations), or `--max-memory GIB`; the counts of one run add up; never more than 2³² − 1 particles |\n\
          | snapshots | `sph_cases::guard`, before the run | at most {snap} snapshots, and their estimated size within the free space of the output directory |\n\
          | monitor samples | `sph_cases::guard` | at most {mon} |\n\
          | probe samples | `sph_cases::guard` | their memory within the limit left by the particles |\n\
          | work | `sph_cases::guard` | at most {ps:e} particle-steps (about a day on 2 cores) unless `--allow-long-run`; never more than {st:e} steps (time resolution) |\n\
-         | threads | `sph` | 1 to 1024 |\n\
+         | threads | `sph` | `--threads`, else `RAYON_NUM_THREADS`, else every core: 1 to 1024 either way |\n\
+         | probes | the solvers' `with_probes` (`sph_core::scene::check_probes`) | at most {probes} per body, names unique |\n\
+         | names | `sph_core::error::check_name`, when a scene is read and when a solver is given probes, tools or named constraints | 1 to {name_bytes} bytes, no `/` or `\\`, no control character, not `.` or `..` |\n\
+         | inputs | `sph_output::input` | regular files only (a FIFO or device refused at once, no open that waits); scene and parameter files at most {text} bytes; particle files streamed against the memory budget, lines of at most 4096 bytes; a checkpoint's header read first, its state within the memory limit |\n\
          | checkpoints | `sph_driver::guard`, before the run | the snapshots they carry within the memory the particles and probes leave; two checkpoints (those snapshots and at most {sb} B of solver state per particle) within the free space of their directory |\n\
-         | densities, moduli | `sph_cases::params::physical_range`, by key name for every case | 1e-3 to 1e6 kg/m³; 1e-3 to 1e13 Pa |\n\
-         | blow-up | every solver's step | `J = det F ≤ 0` (UL: `ρ ≤ 0`) or a non-finite state stops the run; so does a stable step below {ratio} of the acoustic step at rest (`sph_core::diagnostics::MIN_DT_RATIO`), checked in UL's acoustic sub-steps too |\n\
-         | outputs | `sph_output::safety` and `sph_cases::preflight` | replaced only if a regular file a run wrote (results file, XDMF, earlier summary); never an input, a link, device, FIFO or directory; writability probed before the run; one temporary file per writer (`<name>.<pid>-<k>.tmp`, `O_EXCL`); one writer per results file (`flock` on `<name>.h5.lock`) |\n\n\
+         | densities, moduli | `sph_materials::ElasticConstants` (and the Mooney–Rivlin constants), for cases, scene files and library calls alike | 1e-3 to 1e6 kg/m³; 1e-3 to 1e13 Pa |\n\
+         | numerical parameters | `TlParams`, `UlParams`, `MpsParams::validate`, the ranges the case keys show | e.g. `h_over_dp` 0.5 to 3, CFL and Courant numbers between 0 and 1; a key of another method refused |\n\
+         | bodies, tools | `sph-scene`, the TL solver | a body at least 3 particles across; a tool slower than the body's sound speed |\n\
+         | blow-up | every solver's step, and the driver before the run (`Solver::check_time_step`) | `J = det F ≤ 0` (UL: `ρ ≤ 0`) or a non-finite state stops the run; so does a stable step below {ratio} of the acoustic step at rest (`sph_core::diagnostics::MIN_DT_RATIO`), checked in UL's acoustic sub-steps too; a state that cannot take its first step is refused before the run |\n\
+         | outputs | `sph_output::safety` and `sph_cases::preflight` | checked as the write resolves them (`..` after a directory to be created, links); replaced only if a regular file a run wrote (results file, XDMF, earlier summary) that can be replaced (not immutable or append-only, not another user's in a sticky directory); never an input, a link, device, FIFO or directory; writability and renames probed before the run; no directory created before every check passed; one temporary file per writer (`<name>.<pid>-<k>.tmp`, `O_EXCL`); one writer per results file (`flock` on `<name>.h5.lock`) |\n\n\
          `sph run … --dry-run` prints the estimates (particles, memory, steps, particle-steps, \
          snapshots, disk, probe memory) without running or writing anything.\n\n\
          ## Checkpoint and restart\n\n\
@@ -271,7 +416,7 @@ pub fn render_doc() -> String {
          | `sph run … --checkpoint-every INTERVAL` | write the full state of the run every \
          INTERVAL of simulated time (`0.01`) or wall time (`5min`, `90s`), at the first snapshot \
          or monitor time after it (checkpoints never change the steps a run takes), and when \
-         SIGINT or SIGTERM stops the run |\n\
+         SIGINT, SIGTERM, SIGHUP or SIGQUIT stops the run |\n\
          | `sph run … --checkpoint FILE` | where (default `<out>/<case>-<method>.ckpt`); \
          replaces only an earlier checkpoint, never an input, the results, the summary, a link \
          or a device; one run per checkpoint (`flock` on `FILE.lock`) |\n\
@@ -303,6 +448,9 @@ pub fn render_doc() -> String {
         ps = MAX_PARTICLE_STEPS,
         st = MAX_STEPS,
         ratio = MIN_DT_RATIO,
+        probes = sph_core::scene::MAX_PROBES,
+        name_bytes = sph_core::error::MAX_NAME_BYTES,
+        text = sph_output::input::MAX_TEXT_BYTES,
     ));
     s
 }

@@ -10,10 +10,10 @@ use std::path::{Path, PathBuf};
 /// arena). Counted against `ulimit -v`, which counts reservations, not use.
 const ADDRESS_SPACE_PER_THREAD: u64 = 66 << 20;
 
-/// The tightest limit and what it is, in words (`the memory cgroup`, `the address-space limit
-/// (ulimit -v)`, …); `None` where none can be read.
-pub fn tightest() -> Option<(u64, &'static str)> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
+/// The tightest limit for a process of `threads` worker threads and what it is, in words (`the
+/// memory cgroup leaves`, `the address-space limit (ulimit -v) leaves`, …); `None` where none
+/// can be read.
+pub fn tightest(threads: u64) -> Option<(u64, &'static str)> {
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
     let limits = [
         (meminfo_available(), "available"),

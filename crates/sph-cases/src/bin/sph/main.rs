@@ -178,7 +178,7 @@ struct RunArgs {
         default_missing_value = "4"
     )]
     compress: Option<u8>,
-    /// Worker threads, 1 to 1024 (default: all cores).
+    /// Worker threads, 1 to 1024 (default: RAYON_NUM_THREADS if set, else all cores).
     #[arg(long)]
     threads: Option<usize>,
     /// Memory the run may plan to use, GiB (default: 80 % of the memory available now).
@@ -390,6 +390,29 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
     execute(job, settings, None)
 }
 
+/// The memory a run of `threads` worker threads may plan to use: `--max-memory GIB`, or 80 %
+/// of what the machine, the process's cgroup and its limits leave ([`Budget::available_to`]).
+fn memory_budget(max_memory: Option<f64>, threads: usize) -> Result<Budget, CaseError> {
+    Ok(match max_memory {
+        Some(gib) if gib.is_finite() && gib > 0.0 && gib <= 1e9 => Budget::with_limit(
+            (gib * (1u64 << 30) as f64) as u64,
+            format!("--max-memory {gib}"),
+        ),
+        Some(gib) => {
+            return Err(CaseError::InvalidValue {
+                key: "--max-memory".into(),
+                value: sph_core::error::Num(gib).to_string(),
+                allowed: "GiB, 0 < --max-memory <= 1e9".into(),
+            })
+        }
+        None => {
+            let b = Budget::available_to(threads);
+            let origin = format!("{}; --max-memory GIB overrides it", b.origin);
+            Budget { origin, ..b }
+        }
+    })
+}
+
 fn execute(
     job: Job,
     a: Settings,
@@ -444,25 +467,9 @@ fn execute(
             "--compress compresses the results file; --no-output writes none".into(),
         ));
     }
-    let budget = match a.max_memory {
-        Some(gib) if gib.is_finite() && gib > 0.0 && gib <= 1e9 => Budget::with_limit(
-            (gib * (1u64 << 30) as f64) as u64,
-            format!("--max-memory {gib}"),
-        ),
-        Some(gib) => {
-            return Err(CaseError::InvalidValue {
-                key: "--max-memory".into(),
-                value: gib.to_string(),
-                allowed: "GiB, 0 < --max-memory <= 1e9".into(),
-            })
-        }
-        None => {
-            let b = Budget::from_available_memory();
-            let origin = format!("{}; --max-memory GIB overrides it", b.origin);
-            Budget { origin, ..b }
-        }
-    };
+
     let threads = threads::configure(a.threads)?;
+    let budget = memory_budget(a.max_memory, threads)?;
     let (name, method) = match &job {
         Job::Case { case, method, .. } => (case.info().name.to_string(), method.to_string()),
         Job::Scene(scene, _) => (scene.name().to_string(), scene.method().to_string()),

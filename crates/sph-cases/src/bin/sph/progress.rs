@@ -16,7 +16,7 @@ pub(super) fn progress_display(
     if !(log_every.is_finite() && log_every >= 0.0) {
         return Err(CaseError::InvalidValue {
             key: "--log-every".into(),
-            value: log_every.to_string(),
+            value: sph_core::error::Num(log_every).to_string(),
             allowed: "seconds >= 0 (0: no log lines)".into(),
         });
     }

@@ -16,7 +16,8 @@ pub(super) fn resume(a: ResumeArgs) -> Result<ExitCode, CaseError> {
             a.checkpoint.display()
         )));
     }
-    let checkpoint = Checkpoint::load(&path)?;
+    // Read within the memory the run may use: a checkpoint's state is held whole.
+    let checkpoint = budget::scoped(memory_budget(a.max_memory, 1)?, || Checkpoint::load(&path))?;
     // Older checkpoints have no `ranks`: one.
     let written_on = checkpoint
         .run

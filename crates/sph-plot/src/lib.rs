@@ -1,5 +1,10 @@
-//! Line plots as PNG (plotters' bitmap backend with a bundled DejaVu Sans, so no system font
-//! libraries are needed).
+//! # sph-plot
+//!
+//! The PNG plots of sph-solids' reports (`sph converge`, the validation and trade-off reports):
+//! line and log-log plots, outcome maps and particle frames, drawn with plotters' bitmap
+//! backend and a bundled DejaVu Sans (licence in `assets/`), so no system font or graphics
+//! library is needed. Each line plot's curves are also recorded ([`take_recorded`]) for the
+//! reports' HDF5 files.
 
 use plotters::prelude::*;
 use std::path::Path;
