@@ -163,8 +163,8 @@ pub(crate) fn resolve(
             None,
             "case",
             format!(
-                "this is a parameter file of the case `{case}` (what `sph list --toml {case}` \
-                 writes), not a scene file: run it with `sph run {case} --config {file}`"
+                "{file} is a parameter file of case `{case}` (as `sph list --toml` writes), not \
+                 a scene: run it with `sph run {case} --config {file}`"
             ),
         ));
     }

@@ -808,7 +808,7 @@ fn a_case_parameter_file_says_how_to_run_it() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("parameter file of the case `oscillating-plate-2d`")
+        e.contains("plate.toml is a parameter file of case `oscillating-plate-2d`")
             && e.contains("sph run oscillating-plate-2d --config plate.toml"),
         "{e}"
     );
