@@ -1,6 +1,6 @@
-"""Reads the per-frame VTU files of sph-solids runs with meshio and VTK and checks them against
-the HDF5 results read with h5py: frame count and times (from the .pvd), points, vertex cells,
-and every per-particle field, value for value.
+"""Reads the per-frame VTU files of sph-solids runs with meshio, VTK and PyVista (the .pvd
+collection) and checks them against the HDF5 results read with h5py: frame count and times
+(from the .pvd), points, vertex cells, and every per-particle field, value for value.
 
     python3 vtu_readers_check.py RUN.pvd [RUN.pvd ...]
 
@@ -84,6 +84,23 @@ def check_vtk(frames, snaps, pvd):
     print(f"VTK: {pvd}: {len(frames)} frames, points, times and fields equal h5py's")
 
 
+def check_pyvista(frames, snaps, pvd):
+    try:
+        import pyvista
+    except ImportError:
+        notice("PyVista not installed; its .pvd check is skipped")
+        return
+    r = pyvista.get_reader(pvd)
+    times = list(r.time_values)
+    assert times == [t for t, _ in snaps], f"{pvd}: PyVista's times"
+    for k in (0, len(times) - 1):
+        r.set_active_time_point(k)
+        m = r.read()[0]
+        x = snaps[k][1]["position"]
+        assert np.array_equal(np.asarray(m.points), x), f"{pvd}: PyVista frame {k}"
+    print(f"PyVista: {pvd}: {len(times)} time values, first and last frames equal h5py's")
+
+
 def main(paths):
     for pvd in paths:
         h5 = pvd[: -len(".pvd")] + ".h5"
@@ -94,6 +111,7 @@ def main(paths):
             assert t == ht, f"{pvd}: time {t} vs {ht}"
         check_meshio(frames, snaps, pvd)
         check_vtk(frames, snaps, pvd)
+        check_pyvista(frames, snaps, pvd)
 
 
 if __name__ == "__main__":
