@@ -51,6 +51,7 @@ fn without_step_limit(set: &[String]) -> Vec<String> {
 }
 
 mod catalogue;
+mod estimates;
 mod report;
 
 use catalogue::{scenes, sweeps, Line, Measure, Scene, Sweep};
@@ -177,43 +178,6 @@ pub fn run_all(sel: Selection) -> Result<(), String> {
         }
     }
     Ok(())
-}
-
-/// `f∞` of `f(h) = f∞ + C hᵖ` through the three finest points (`points` as (h, f), any order),
-/// with the order `p`; `None` unless the three differences have one sign (monotone) and the
-/// fitted order lies in [0.5, 8].
-pub fn richardson(points: &[(f64, f64)]) -> Option<(f64, f64)> {
-    let mut p: Vec<(f64, f64)> = points
-        .iter()
-        .copied()
-        .filter(|q| q.0.is_finite() && q.1.is_finite())
-        .collect();
-    p.sort_by(|a, b| b.0.total_cmp(&a.0));
-    if p.len() < 3 {
-        return None;
-    }
-    let [(h1, f1), (h2, f2), (h3, f3)] = [p[p.len() - 3], p[p.len() - 2], p[p.len() - 1]];
-    let ratio = (f1 - f2) / (f2 - f3);
-    if !(ratio.is_finite() && ratio > 0.0) {
-        return None;
-    }
-    // (h1ᵖ − h2ᵖ)/(h2ᵖ − h3ᵖ) grows monotonically with p for h1 > h2 > h3: bisect.
-    let g = |q: f64| (h1.powf(q) - h2.powf(q)) / (h2.powf(q) - h3.powf(q)) - ratio;
-    let (mut a, mut b) = (0.5, 8.0);
-    if g(a) > 0.0 || g(b) < 0.0 {
-        return None;
-    }
-    for _ in 0..100 {
-        let m = 0.5 * (a + b);
-        if g(m) > 0.0 {
-            b = m;
-        } else {
-            a = m;
-        }
-    }
-    let q = 0.5 * (a + b);
-    let c = (f2 - f3) / (h2.powf(q) - h3.powf(q));
-    Some((f3 - c * h3.powf(q), q))
 }
 
 /// A point of a Pareto plot.
@@ -420,17 +384,6 @@ fn failure_reason(status: &str) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn richardson_recovers_a_known_limit_and_order() {
-        let f = |h: f64| 0.27 + 0.3 * h.powf(1.7);
-        let pts: Vec<(f64, f64)> = [0.2, 0.1, 0.05, 0.025].iter().map(|&h| (h, f(h))).collect();
-        let (lim, p) = richardson(&pts).unwrap();
-        assert!((lim - 0.27).abs() < 1e-9, "{lim}");
-        assert!((p - 1.7).abs() < 1e-6, "{p}");
-        // Non-monotone data have no extrapolation.
-        assert!(richardson(&[(0.2, 1.0), (0.1, 0.5), (0.05, 0.8)]).is_none());
-    }
 
     #[test]
     fn pareto_front_keeps_only_undominated_points() {

@@ -22,6 +22,7 @@
 
 pub mod analysis;
 pub mod cases;
+pub mod converge;
 pub mod error;
 #[cfg(feature = "mpi")]
 pub mod mpi_ranks;
@@ -30,6 +31,8 @@ pub mod preflight;
 pub mod process;
 pub mod runner;
 
+/// Error estimates from a resolution ladder (`sph-driver`'s; `sph converge`).
+pub use sph_driver::convergence;
 /// The checks and estimates made before a run (`sph-driver`'s).
 pub use sph_driver::guard;
 

@@ -306,6 +306,10 @@ impl Estimate {
             "memory_estimate".into(),
             json!(format_bytes(self.memory_bytes)),
         );
+        m.insert(
+            "memory_bytes_estimate".into(),
+            json!(self.memory_bytes.round()),
+        );
         m.insert("step_estimate".into(), json!(self.step));
         m.insert("steps_estimate".into(), json!(self.steps.round()));
         m.insert(

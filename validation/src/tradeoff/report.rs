@@ -34,6 +34,7 @@ pub fn report(root: &Path) -> Result<(), String> {
     for scene in scenes() {
         any |= pareto_section(&mut md, &scene, &fig_dir)?;
     }
+    any |= estimates::section(&mut md);
     writeln!(md, "## Stability at the extremes\n").unwrap();
     writeln!(
         md,

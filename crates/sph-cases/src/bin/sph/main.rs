@@ -39,6 +39,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 
 mod console;
+mod converge;
 mod job;
 mod progress;
 mod resume;
@@ -117,6 +118,10 @@ enum Command {
     /// Continue a run from its checkpoint (`sph run --checkpoint-every`) to its end time, into
     /// the same results; it ends bit-identical to the run never interrupted.
     Resume(ResumeArgs),
+    /// Run a case at a ladder of resolutions until the estimated error of every quantity is
+    /// within a tolerance (or the budget is spent), and report value ± error, the observed
+    /// order and what each level cost.
+    Converge(Box<converge::ConvergeArgs>),
 }
 
 #[derive(clap::Args)]
@@ -212,6 +217,35 @@ struct RunArgs {
     checkpoint: Option<PathBuf>,
 }
 
+impl RunArgs {
+    /// `sph run CASE --method METHOD --set … [--config FILE]`, every other option at its
+    /// default (as clap gives it).
+    fn for_case(
+        case: &str,
+        method: &str,
+        set: &[String],
+        config: Option<PathBuf>,
+    ) -> Result<Self, CaseError> {
+        let mut argv: Vec<String> = vec!["sph".into(), "run".into(), case.into()];
+        argv.extend(["--method".into(), method.into()]);
+        for s in set {
+            argv.extend(["--set".into(), s.clone()]);
+        }
+        if let Some(c) = config {
+            argv.extend(["--config".into(), c.display().to_string()]);
+        }
+        match Cli::try_parse_from(argv) {
+            Ok(Cli {
+                command: Command::Run(a),
+            }) => Ok(*a),
+            Ok(_) => unreachable!("the arguments name `run`"),
+            Err(e) => Err(CaseError::Config(
+                e.to_string().lines().next().unwrap_or("").into(),
+            )),
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -240,6 +274,7 @@ fn command(cli: Cli) -> ExitCode {
         Command::List { verbose, .. } => Ok(print_or_fail(&list(verbose), ExitCode::SUCCESS)),
         Command::Run(args) => run(*args),
         Command::Resume(args) => resume(args),
+        Command::Converge(args) => converge::converge_command(*args),
     };
     result.unwrap_or_else(|e| {
         say(&format!("error: {e}"));
