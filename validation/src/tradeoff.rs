@@ -28,9 +28,10 @@ pub struct Selection {
 }
 
 /// Largest disorder indicator of a run still called ordered. From the stored validation runs
-/// and their pictures (docs/validation.md): TL-HF's plate at v_f = 0.15 peaks at 0.12 and
-/// UL-ENOG's colliding rings at 0.04–0.06, both visibly ordered; TL-GM's plate at 0.55, OAS's
-/// rings at 0.31–1.8 (zigzag) and OG's at 1.6–2.6 (fracture) are visibly disordered.
+/// and their pictures (docs/validation.md): TL-HF's plate at v_f = 0.15 (H/dp 10, frame clamp)
+/// peaks at 0.16 and UL-ENOG's colliding rings at 0.04–0.06, both visibly ordered; TL-GM's
+/// plate at 1.20, OAS's rings at 0.31–1.8 (zigzag) and OG's at 1.6–2.6 (fracture) are visibly
+/// disordered.
 pub const DISORDER_LIMIT: f64 = 0.25;
 
 /// A sweep's run may take this many times the steps its dry run estimates (`steps_estimate`:
@@ -50,6 +51,7 @@ fn without_step_limit(set: &[String]) -> Vec<String> {
         .collect()
 }
 
+pub mod advice_data;
 mod catalogue;
 mod estimates;
 mod report;
@@ -249,24 +251,13 @@ fn spacing(scene: &Scene, res: f64) -> f64 {
     }
 }
 
-/// Order of convergence as the least-squares slope of log error against log spacing.
-fn slope_order(s: &[(f64, f64)]) -> Option<f64> {
-    let pts: Vec<(f64, f64)> = s
-        .iter()
-        .filter(|p| p.0 > 0.0 && p.1 != 0.0)
-        .map(|p| (p.0.ln(), p.1.abs().ln()))
-        .collect();
-    if pts.len() < 2 {
-        return None;
+/// The refinement value of a spacing (the inverse of [`spacing`]).
+fn spacing_inverse(scene: &Scene, h: f64) -> f64 {
+    if scene.resolution_key == "dp" {
+        h
+    } else {
+        1.0 / h
     }
-    let n = pts.len() as f64;
-    let (mx, my) = (
-        pts.iter().map(|p| p.0).sum::<f64>() / n,
-        pts.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    (sxx > 0.0).then(|| sxy / sxx)
 }
 
 fn short(status: &str) -> String {
@@ -389,14 +380,5 @@ mod tests {
     fn pareto_front_keeps_only_undominated_points() {
         let pts = [(1.0, 0.1), (2.0, 0.05), (3.0, 0.08), (0.5, 0.2), (2.0, 0.2)];
         assert_eq!(pareto_front(&pts), vec![0, 1, 3]);
-    }
-
-    #[test]
-    fn slope_order_of_a_power_law() {
-        let s: Vec<(f64, f64)> = [0.1, 0.05, 0.025]
-            .iter()
-            .map(|&h| (h, 2.0 * h * h))
-            .collect();
-        assert!((slope_order(&s).unwrap() - 2.0).abs() < 1e-12);
     }
 }

@@ -20,6 +20,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod advise;
 pub mod analysis;
 pub mod cases;
 pub mod converge;

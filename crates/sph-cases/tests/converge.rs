@@ -1,6 +1,7 @@
 //! `sph converge` end to end on a small ladder of the TL plate (H/dp 4, 6, 9; seconds): the
 //! report's interface, the reuse of stored levels, resuming an interrupted ladder, and bad input
-//! as one line. The estimator itself is tested in `sph_driver::convergence`.
+//! as one line; `sph advise` on the same case. The estimator itself is tested in
+//! `sph_driver::convergence`, the advice against every stored scene in the validation crate.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -243,5 +244,71 @@ fn bad_input_is_one_line_naming_it() {
         assert!(errors[0].contains(needle), "`{needle}` not in {err}");
     }
     // The budget was refused before any level ran.
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `sph advise` names the stored scene, its confidence and the cheapest stored run within the
+/// tolerance (the plate's at 3 %: TL at H/dp 20, docs/tradeoffs.md), as text and JSON; bad
+/// input is one line.
+#[test]
+fn advise_suggests_the_cheapest_stored_run() {
+    let dir = scratch("advise");
+    let out = sph(
+        &dir,
+        &[
+            "advise",
+            "oscillating-plate-2d",
+            "--tolerance",
+            "3%",
+            "--set",
+            "end_time=0.6",
+            "--summary",
+            "a.json",
+        ],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("high confidence"), "{text}");
+    assert!(text.contains("--method tl --set resolution=20"), "{text}");
+    let a = json(&dir.join("a.json"));
+    assert_eq!(a["scene"], "plate2d");
+    assert_eq!(a["confidence"], "high");
+    assert_eq!(a["run"]["method"], "tl");
+    assert_eq!(a["run"]["resolution"], 20.0);
+    let p = a["predicted_cpu_seconds"].as_f64().unwrap();
+    let stored = a["run"]["cpu_seconds"].as_f64().unwrap();
+    assert!((p / stored - 1.0).abs() < 0.05, "{p} vs {stored}");
+    for (args, needle) in [
+        (
+            vec!["advise", "oscillating-plate-2d", "--tolerance", "0"],
+            "invalid --tolerance",
+        ),
+        (
+            vec!["advise", "no-case", "--tolerance", "1%"],
+            "unknown case",
+        ),
+        (
+            vec![
+                "advise",
+                "oscillating-plate-2d",
+                "--tolerance",
+                "1%",
+                "--set",
+                "nu=2",
+            ],
+            "invalid nu = 2",
+        ),
+    ] {
+        let out = sph(&dir, &args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{err}");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }

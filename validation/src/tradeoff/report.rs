@@ -2,6 +2,7 @@
 //! outcome of every run.
 
 use super::*;
+use sph_cases::convergence::{estimate, Behaviour, Sample};
 
 /// Writes docs/tradeoffs.md (if any costed run is stored) with its plots in `fig_dir`.
 pub fn report(root: &Path) -> Result<(), String> {
@@ -35,7 +36,20 @@ pub fn report(root: &Path) -> Result<(), String> {
         any |= pareto_section(&mut md, &scene, &fig_dir)?;
     }
     any |= estimates::section(&mut md);
+    let data = advice_data::path(root);
+    std::fs::write(&data, advice_data::text()).map_err(|e| format!("{}: {e}", data.display()))?;
+    println!("wrote {}", data.display());
     writeln!(md, "## Stability at the extremes\n").unwrap();
+    // The plate runs of the calibration: the frame clamp's (docs/validation.md, TL Table 1).
+    let disorder = |id: &str| {
+        crate::store::load(id)
+            .and_then(|r| r.num("max_disorder"))
+            .map_or("–".to_string(), |d| format!("{d:.2}"))
+    };
+    let (hf, gm) = (
+        disorder("tl-disorder-tl-hf-vf0.15-frame"),
+        disorder("tl-disorder-tl-gm-vf0.15-frame"),
+    );
     writeln!(
         md,
         "Each cell: **ordered** (completed, largest disorder indicator ≤ {DISORDER_LIMIT}), \
@@ -43,8 +57,9 @@ pub fn report(root: &Path) -> Result<(), String> {
          non-finite state, lost neighbours, inverted particles — the reason is given), or \
          **rejected** (the value is outside the parameter's allowed range; nothing ran). The \
          limit {DISORDER_LIMIT} separates the stored validation runs that are visibly ordered \
-         in their pictures (TL-HF's plate at v_f = 0.15: 0.12; UL-ENOG's colliding rings: \
-         0.04–0.06) from those visibly disordered (TL-GM's plate at v_f = 0.15: 0.55; OAS's \
+         in their pictures (TL-HF's plate at v_f = 0.15, H/dp 10, frame clamp: {hf}; UL-ENOG's \
+         colliding rings: 0.04–0.06) from those visibly disordered (TL-GM's plate at v_f = \
+         0.15: {gm}; OAS's \
          rings: 0.31–1.8, zigzag; OG's: 1.6–2.6, broken). The number in a cell is the largest \
          disorder indicator. Every run may take at most {STEP_LIMIT_FACTOR} times the steps \
          its dry run estimates (`steps_estimate` of `sph run … --dry-run`: the end time over \
@@ -128,12 +143,27 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
         .iter()
         .filter(|p| p.error.is_some_and(|e| e != 0.0) && p.cpu > 0.0)
         .collect();
-    let front: Vec<usize> = pareto_front(
-        &usable
+    // The front counts a run only if every finer run of its method is at least as accurate:
+    // a coarse run whose error crosses zero (UL-OAS at H/dp 5 on the plate) is luck, not
+    // accuracy, as in the cheapest-run rule below.
+    let converged = |p: &Point| {
+        let e = p.error.unwrap_or(f64::NAN).abs();
+        points
             .iter()
-            .map(|p| (p.cpu, p.error.unwrap().abs()))
-            .collect::<Vec<_>>(),
-    );
+            .filter(|q| q.line == p.line && spacing(scene, q.res) < spacing(scene, p.res))
+            .all(|q| q.error.is_some_and(|f| f.abs() <= e))
+    };
+    let eligible: Vec<(f64, f64)> = usable
+        .iter()
+        .map(|p| {
+            let e = p.error.unwrap().abs();
+            (p.cpu, if converged(p) { e } else { f64::INFINITY })
+        })
+        .collect();
+    let front: Vec<usize> = pareto_front(&eligible)
+        .into_iter()
+        .filter(|&i| eligible[i].1.is_finite())
+        .collect();
     let mut series: Vec<plot::LabelledSeries> = Vec::new();
     for l in &scene.lines {
         let pts: Vec<(f64, f64, String)> = usable
@@ -165,7 +195,9 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
         writeln!(
             md,
             "![{}](tradeoffs/{png})\n\nPoints are labelled by {}; circled points form the Pareto \
-             front (no other run is both cheaper and more accurate).\n",
+             front (no other run is both cheaper and more accurate), among the runs whose finer \
+             runs of the same method are all at least as accurate (a coarse run whose error \
+             crosses zero is luck, not accuracy).\n",
             scene.key, scene.resolution_key
         )
         .unwrap();
@@ -178,29 +210,17 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
         scene.resolution_key
     )
     .unwrap();
+    let stored = advice_data::stored_scene(scene);
     for tol in [0.01, 0.03, 0.10] {
-        let within = |p: &Point| p.error.is_some_and(|e| e.abs() <= tol);
-        let best = usable
-            .iter()
-            .filter(|p| {
-                within(p)
-                    && points
-                        .iter()
-                        .filter(|q| {
-                            q.line == p.line && spacing(scene, q.res) < spacing(scene, p.res)
-                        })
-                        .all(within)
-            })
-            .min_by(|a, b| a.cpu.total_cmp(&b.cpu));
-        match best {
+        match stored.cheapest(tol) {
             Some(p) => writeln!(
                 md,
                 "| {:.0} % | {} | {} | {:.2} | {:.3e} |",
                 tol * 100.0,
                 p.line,
-                fmt_value(p.res),
-                p.cpu,
-                p.work
+                fmt_value(p.resolution),
+                p.cpu_seconds,
+                p.work.unwrap_or(f64::NAN)
             )
             .unwrap(),
             None => writeln!(
@@ -223,26 +243,59 @@ fn pareto_section(md: &mut String, scene: &Scene, fig_dir: &Path) -> Result<bool
         if s.is_empty() {
             continue;
         }
-        let order = slope_order(&s).map_or("–".into(), |p| {
-            let n = if s.len() < 3 { " (from 2 points)" } else { "" };
-            if p > 0.0 {
-                format!("{p:.2}{n}")
-            } else {
-                format!("{p:.2} (error grows with resolution){n}")
+        // The order sph converge would report from the finest four runs with the quantity
+        // (three or two if fewer), with its verdict on the asymptotic range.
+        let finest: Vec<Sample> = {
+            let mut v: Vec<Sample> = s
+                .iter()
+                .map(|&(h, e)| Sample {
+                    spacing: h,
+                    value: 1.0 + e,
+                })
+                .collect();
+            v.sort_by(|a, b| b.spacing.total_cmp(&a.spacing));
+            let k = v.len().saturating_sub(4);
+            v.split_off(k)
+        };
+        let order = match estimate(&finest) {
+            Ok(e) => {
+                let from = finest
+                    .iter()
+                    .map(|x| fmt_value(spacing_inverse(scene, x.spacing)))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                let verdict = match (e.order, e.behaviour) {
+                    (_, Behaviour::Oscillating) => "oscillating".to_string(),
+                    (_, Behaviour::TwoLevels) => "two runs: no order".to_string(),
+                    (Some(_), _) if e.asymptotic => "asymptotic".to_string(),
+                    _ => "not asymptotic".to_string(),
+                };
+                let p = e.order.map_or("–".to_string(), |p| format!("{p:.2}"));
+                format!("{p} ({verdict}; {} {from})", scene.resolution_key)
             }
-        });
+            Err(_) => "–".into(),
+        };
         let limit = match scene.measure {
             Measure::FiniteElement { .. } => {
                 format!("(FE, {})", crate::fem_plate::law_of(l.method))
             }
             _ => "(closed form)".into(),
         };
+        // The finest run's error; a finest run without the quantity says so (its error is
+        // not that of a coarser run).
         let finest = points
             .iter()
-            .filter(|p| p.line == l.label && p.error.is_some())
+            .filter(|p| p.line == l.label)
             .min_by(|a, b| spacing(scene, a.res).total_cmp(&spacing(scene, b.res)))
-            .and_then(|p| p.error)
-            .map_or("–".into(), |e| format!("{:+.2} %", 100.0 * e));
+            .map_or("–".into(), |p| match p.error {
+                Some(e) => format!("{:+.2} %", 100.0 * e),
+                None => format!(
+                    "– (no {} at {} {})",
+                    measured_key(scene.measure),
+                    scene.resolution_key,
+                    fmt_value(p.res)
+                ),
+            });
         writeln!(md, "| {} | {order} | {limit} | {finest} |", l.label).unwrap();
     }
     writeln!(md).unwrap();

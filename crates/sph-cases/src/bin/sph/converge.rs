@@ -55,7 +55,7 @@ pub(super) struct ConvergeArgs {
 }
 
 /// `1%`, `0.5 %` or `0.01`: a relative tolerance.
-fn parse_tolerance(text: &str) -> Result<f64, CaseError> {
+pub(super) fn parse_tolerance(text: &str) -> Result<f64, CaseError> {
     let t = text.trim();
     let (number, scale) = match t.strip_suffix('%') {
         Some(n) => (n.trim(), 0.01),

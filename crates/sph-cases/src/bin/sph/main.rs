@@ -38,6 +38,7 @@ use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 
+mod advise;
 mod console;
 mod converge;
 mod job;
@@ -122,6 +123,10 @@ enum Command {
     /// within a tolerance (or the budget is spent), and report value ± error, the observed
     /// order and what each level cost.
     Converge(Box<converge::ConvergeArgs>),
+    /// Before any run: the method and resolution expected to be cheapest for a tolerance, from
+    /// the project's stored trade-off runs (docs/tradeoffs.md), with how far they stand for
+    /// the case asked about.
+    Advise(advise::AdviseArgs),
 }
 
 #[derive(clap::Args)]
@@ -275,6 +280,7 @@ fn command(cli: Cli) -> ExitCode {
         Command::Run(args) => run(*args),
         Command::Resume(args) => resume(args),
         Command::Converge(args) => converge::converge_command(*args),
+        Command::Advise(args) => advise::advise_command(args),
     };
     result.unwrap_or_else(|e| {
         say(&format!("error: {e}"));
