@@ -1,6 +1,6 @@
 //! A rubber cantilever swinging from its clamp, with the Hamiltonian particle model (MPS) and
 //! a probe at the tip; writes `out/examples/mps-cantilever.h5` (and `.xmf`).
-//! `cargo run --release --example mps_cantilever`
+//! `cargo run --example mps_cantilever`
 use sph_solids::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

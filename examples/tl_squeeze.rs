@@ -1,6 +1,6 @@
 //! A rubber block on a fixed floor squeezed by a rigid frictionless punch, quasi-statically,
 //! with TL-SPH-HF; writes `out/examples/tl-squeeze.h5` (and `.xmf` for ParaView).
-//! `cargo run --release --example tl_squeeze`
+//! `cargo run --example tl_squeeze`
 use sph_solids::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -22,7 +22,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let relax = PairwiseDamping::new(PairwiseDamping::viscosity_for(1.0, 1100.0, 1e7, h))?;
     let mut solver = TlSolver::new(Body::from(set), law, TlShear::hourglass_free(), params)?
         .with_constraints(grips)
-        .with_tools(vec![RigidTool::new("punch", punch, motion)])?
+        .with_tools(vec![RigidTool::new("punch", punch, motion.clone())])?
         .with_relaxation(relax)?;
     let (record, _) = Run::until(1.25 * motion.arrival_time())
         .named("tl-squeeze")

@@ -1,6 +1,6 @@
 //! Two rubber discs colliding at 5 % of the sound speed, with UL-SPH-ENOG and contact between
 //! the bodies; writes `out/examples/ul-impact.h5` (and `.xmf`).
-//! `cargo run --release --example ul_impact`
+//! `cargo run --example ul_impact`
 use sph_solids::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -9,9 +9,10 @@
 #    readers, those of ParaView's "XDMF Reader" and "Xdmf3 Reader S/T"), or, when apt cannot,
 #    VTK's wheel (pip `vtk`: the XDMF 2 reader only).
 # 2. Runs two short cases with the `sph` command (a TL plate on the default schedule, and a UL
-#    ring collision, whose particles are reordered, with --compress) and checks their `.xmf`
-#    with every reader available (tests/xdmf_readers_check.py: frame count, times, points,
-#    cells, fields equal to h5py's).
+#    ring collision, whose particles are reordered, with --compress and --format vtu) and
+#    checks their `.xmf` with every reader available (tests/xdmf_readers_check.py: frame
+#    count, times, points, cells, fields equal to h5py's) and their `.pvd` and `.vtu` frames
+#    with meshio and VTK (tests/vtu_readers_check.py).
 # 3. Installs libhdf5-dev (apt-get) and runs `cargo test -p sph-output --features hdf5-metno`
 #    (with the h5py cross-check of both backends, plain and deflated). When the system library
 #    cannot be installed it prints a notice and skips this part (the default, pure-Rust backend
@@ -95,12 +96,13 @@ else
         --out "$dir" --log-every 0 >/dev/null 2>"$dir/tl.log" \
         || { cat "$dir/tl.log"; runs_ok=0; }
     sph run colliding-rings-2d --method ul-enog --set end_time=0.0005 --compress \
-        --out "$dir" --log-every 0 >/dev/null 2>"$dir/ul.log" \
+        --out "$dir" --log-every 0 --format vtu >/dev/null 2>"$dir/ul.log" \
         || { cat "$dir/ul.log"; runs_ok=0; }
     for py in "${interpreters[@]}"; do
         [ "$runs_ok" = 1 ] || break
         echo "with $py:"
         "$py" crates/sph-output/tests/xdmf_readers_check.py "$dir"/*.xmf || runs_ok=0
+        "$py" crates/sph-output/tests/vtu_readers_check.py "$dir"/*.pvd || runs_ok=0
     done
     rm -rf "$dir"
 fi

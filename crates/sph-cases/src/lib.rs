@@ -4,6 +4,20 @@
 //! paper and every value overridable ([`params::Params`]: `--set key=value` or a TOML file).
 //! The run loop is `sph-driver`'s ([`runner::drive`], re-exported here): it runs any solver to
 //! its end time, writes HDF5 results through `sph-output`, and returns the summary figures.
+//!
+//! ```
+//! use sph_cases::{find_case, RunOptions};
+//!
+//! // The TL paper's oscillating plate, coarse and short, from Rust (`sph run` does the same).
+//! let case = find_case("oscillating-plate-2d")?;
+//! let mut params = case.params_for("tl-hf");
+//! params.apply_assignment("resolution=4")?;
+//! params.apply_assignment("end_time=0.01")?;
+//! let (record, summary) = case.run("tl-hf", &params, &RunOptions::default())?;
+//! assert!(record.failure.is_none());
+//! println!("{} steps; figures: {:?}", record.steps, summary.keys().collect::<Vec<_>>());
+//! # Ok::<(), sph_cases::CaseError>(())
+//! ```
 #![deny(missing_docs)]
 
 pub mod advise;

@@ -31,6 +31,10 @@ pub struct RunFiles {
     /// A rank other than 0 of a distributed run: it does not probe the results' lock, which
     /// rank 0 takes for the run and may already hold (the probe would then fail at random).
     pub other_rank: bool,
+    /// `--format vtu`: the VTU frames and their `.pvd` beside the results.
+    pub vtu: bool,
+    /// `--log`, appended to: never an input, the results or the summary.
+    pub log: Option<PathBuf>,
 }
 
 /// `path` as the write will resolve it (the path itself if the current directory is gone).
@@ -62,6 +66,18 @@ impl RunFiles {
             for out in [h5, xmf, lock] {
                 outputs.push(("--out".into(), out));
             }
+            if self.vtu {
+                sph_output::vtu::check_vtu_destination(&real_base)
+                    .map_err(|e| CaseError::Config(format!("--format vtu {}", refusal(&e))))?;
+                let pvd = sph_output::vtu::pvd_path(&real_base);
+                check_replaceable(&pvd)
+                    .map_err(|e| CaseError::Config(format!("--format vtu {}", refusal(&e))))?;
+                outputs.push(("--format vtu".into(), pvd));
+                outputs.push((
+                    "--format vtu".into(),
+                    sph_output::vtu::vtu_path(&real_base, 0),
+                ));
+            }
             for (what, input) in &self.inputs {
                 for (_, out) in &outputs {
                     if same_file(out, input) {
@@ -75,7 +91,7 @@ impl RunFiles {
             }
         }
         if let Some(path) = &self.summary {
-            check_names_a_file(path)?;
+            check_names_a_file("--summary", path)?;
             for (what, other) in self.inputs.iter().chain(&outputs) {
                 if same_file(path, other) {
                     let role = if what == "--out" {
@@ -91,6 +107,34 @@ impl RunFiles {
                 }
             }
             check_summary(path, &real(path))?;
+        }
+        if let Some(path) = &self.log {
+            check_names_a_file("--log", path)?;
+            let roles = self
+                .inputs
+                .iter()
+                .map(|i| (i, "an input"))
+                .chain(outputs.iter().map(|o| (o, "an output")));
+            for ((what, other), role) in roles {
+                if same_file(path, other) {
+                    return Err(CaseError::Config(format!(
+                        "--log {}: is {role} of this run ({what}); choose another file",
+                        path.display()
+                    )));
+                }
+            }
+            if [&self.summary, &self.checkpoint]
+                .into_iter()
+                .flatten()
+                .any(|o| same_file(path, o))
+            {
+                return Err(CaseError::Config(format!(
+                    "--log {}: is the --summary or --checkpoint file; choose another file",
+                    path.display()
+                )));
+            }
+            check_destination(&real(path))
+                .map_err(|e| CaseError::Config(format!("--log {}", refusal_reason(&e))))?;
         }
         if let Some(path) = &self.checkpoint {
             check_checkpoint(
@@ -227,8 +271,9 @@ fn io_reason(e: &sph_output::OutputError) -> String {
     }
 }
 
-/// The summary path names a file, not a directory (`.`, `..`, a trailing `/`, a directory).
-fn check_names_a_file(path: &Path) -> Result<(), CaseError> {
+/// The path of `flag` (`--summary`, `--log`) names a file, not a directory (`.`, `..`, a
+/// trailing `/`, a directory).
+fn check_names_a_file(flag: &str, path: &Path) -> Result<(), CaseError> {
     let text = path.to_string_lossy();
     let names_dir = text.ends_with('/')
         || matches!(
@@ -237,7 +282,7 @@ fn check_names_a_file(path: &Path) -> Result<(), CaseError> {
         );
     if names_dir || real(path).is_dir() {
         return Err(CaseError::Config(format!(
-            "--summary {}: names a directory, not a file",
+            "{flag} {}: names a directory, not a file",
             path.display()
         )));
     }

@@ -396,10 +396,126 @@ fn a_scene_file_runs_and_refuses_case_options() {
     assert_eq!(code, 0, "{err}");
     assert!(text.contains("discs-ul-enog.h5"), "{text}");
     assert!(out.join("discs-ul-enog.h5").exists());
-    let (code, _, err) = sph(&["run", scene, "--set", "dp=1"]);
+    let (code, _, err) = sph(&["run", scene, "--config", "x.toml"]);
     assert_eq!(code, 2);
     assert!(
-        err.contains("--set does not apply to a scene file"),
+        err.contains("--config reads a case's parameter file"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 42: `--set KEY=VALUE` overrides a scene file's key by its dotted path or a
+/// parameter, `--method` its method (the results are named after it), the overrides are in
+/// the results' meta; a bad override is one line naming it; a case's parameter file given
+/// as a scene says how to run it; `--format vtu` writes the frames and their collection,
+/// `--log FILE` the command, the progress and the figures.
+#[test]
+fn scene_files_take_overrides_formats_and_a_log() {
+    let dir = scratch("scene-set");
+    let ring = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/scenes/pressurised_ring.toml"
+    );
+    let out = dir.join("o");
+    let o = out.to_str().unwrap();
+    let log = dir.join("run.log");
+    let args = [
+        "run",
+        ring,
+        "--method",
+        "tl",
+        "--set",
+        "settle=1",
+        "--set",
+        "load_time=5e-4",
+        "--set",
+        "material.nu=0.25",
+        "--set",
+        "body.ring.dp=1.5e-3",
+        "--out",
+        o,
+        "--format",
+        "vtu",
+        "--log",
+        log.to_str().unwrap(),
+        "--log-every",
+        "0",
+    ];
+    let (code, text, err) = sph(&args);
+    assert_eq!(code, 0, "{err}");
+    let h5 = out.join("pressurised-ring-tl.h5");
+    assert!(text.contains("pressurised-ring-tl.h5"), "{text}");
+    let meta = sph_output::read_file(&h5).unwrap().meta;
+    let set: Vec<&str> = meta["overrides"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert_eq!(
+        set,
+        [
+            "method=tl",
+            "settle=1",
+            "load_time=5e-4",
+            "material.nu=0.25",
+            "body.ring.dp=1.5e-3"
+        ]
+    );
+    // 51 frames and their collection.
+    assert!(out.join("pressurised-ring-tl_000050.vtu").is_file());
+    let pvd = std::fs::read_to_string(out.join("pressurised-ring-tl.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet").count(), 51);
+    assert!(text.contains("pressurised-ring-tl.pvd"), "{text}");
+    // The log: the command, the progress at the end, the figures.
+    let logged = std::fs::read_to_string(&log).unwrap();
+    assert!(logged.contains("--method tl"), "{logged}");
+    assert!(logged.contains("t = 5.000000e-4"), "{logged}");
+    assert!(
+        logged.contains("status") && logged.contains("completed"),
+        "{logged}"
+    );
+    // Bad overrides and formats: one line, exit status 2, nothing written.
+    for (args, words) in [
+        (
+            vec!["--set", "material.nu=0.7"],
+            "material.nu (from --set material.nu=0.7)",
+        ),
+        (vec!["--set", "body.slab.dp=1e-3"], "no body named `slab`"),
+        (vec!["--set", "dp"], "expected KEY=VALUE"),
+        (
+            vec!["--set", "spacing=2"],
+            "`spacing` is neither a key of the scene",
+        ),
+        (
+            vec!["--method", "ul-enog"],
+            "relaxation is for the TL methods, not ul-enog",
+        ),
+        (vec!["--format", "vtk"], "invalid --format = vtk"),
+        (
+            vec!["--format", "vtu", "--no-output"],
+            "--no-output writes none",
+        ),
+        (vec!["--log", ring], "an input of this run"),
+    ] {
+        let bad = dir.join("bad");
+        let mut all = vec!["run", ring, "--out", bad.to_str().unwrap()];
+        all.extend(args);
+        let (code, _, err) = sph(&all);
+        assert_eq!(code, 2, "{all:?}: {err}");
+        assert!(err.contains(words), "{all:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(!bad.exists(), "{all:?} wrote {}", bad.display());
+    }
+    // A parameter file of a case, given as a scene file.
+    let params = dir.join("plate.toml");
+    let (_, template, _) = sph(&["list", "--toml", "oscillating-plate-2d"]);
+    std::fs::write(&params, template).unwrap();
+    let (code, _, err) = sph(&["run", params.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("sph run oscillating-plate-2d --config"),
         "{err}"
     );
     std::fs::remove_dir_all(&dir).unwrap();

@@ -479,6 +479,28 @@ fn jacobi_eigen3(m: DMat3) -> (DVec3, DMat3) {
     )
 }
 
+/// The cofactor matrix `cof F = det(F) F⁻ᵀ` (entry `(r, c)` is the signed minor), finite for
+/// every `F`. Nanson's formula `n da = cof(F) N dA` maps a reference area vector to the current
+/// one; in 2D (plane strain, `F_zz = 1`) it is the in-plane block of the 3×3 cofactor.
+#[inline]
+pub fn cofactor<D: Dim>(f: D::Matrix) -> D::Matrix {
+    let g = |r: usize, c: usize| D::matrix_get(f, r, c);
+    match D::D {
+        2 => D::matrix_from_fn(|r, c| {
+            let v = g(1 - r, 1 - c);
+            if r == c {
+                v
+            } else {
+                -v
+            }
+        }),
+        _ => D::matrix_from_fn(|r, c| {
+            let (r1, r2, c1, c2) = ((r + 1) % 3, (r + 2) % 3, (c + 1) % 3, (c + 2) % 3);
+            g(r1, c1) * g(r2, c2) - g(r1, c2) * g(r2, c1)
+        }),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

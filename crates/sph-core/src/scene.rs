@@ -2,6 +2,7 @@
 //! Each method applies them at the point of its scheme its paper prescribes; a scene that
 //! attaches none pays nothing for them.
 
+use crate::amplitude::Amplitude;
 use crate::dim::Dim;
 use crate::error::{check_name, check_positive, Error};
 use crate::kernel::Kernel;
@@ -19,6 +20,11 @@ impl<D: Dim> TimeFunction<D> {
     /// A constant value.
     pub fn constant(v: D::Vector) -> Self {
         Self::new(move |_| v)
+    }
+    /// `v · a(t)`: a magnitude and direction scaled by an amplitude curve (a grip's velocity
+    /// that starts smoothly, a force that follows a table).
+    pub fn scaled(v: D::Vector, amplitude: Amplitude) -> Self {
+        Self::new(move |t| v * amplitude.at(t))
     }
     /// Evaluates at time `t`.
     #[inline]
@@ -420,6 +426,9 @@ impl<D: Dim> Loads<D> {
     }
 }
 
+/// `h / dp` of the kernel of [`Probe::at`].
+pub const PROBE_H_OVER_DP: f64 = 1.3;
+
 /// What a probe observes.
 #[derive(Clone, Debug)]
 pub enum ProbeTarget<D: Dim> {
@@ -438,13 +447,20 @@ pub enum ProbeTarget<D: Dim> {
     },
 }
 
-/// A time series of a probe's position and velocity.
+/// A time series of a probe's position and velocity, and of any output fields asked for.
+///
+/// The solver records the position and velocity (every step or every probe interval); the
+/// run driver samples the [`Probe::fields`] (von Mises stress, `jacobian`, `disorder`, …, any
+/// name of [`crate::Solver::field_names`]) at every monitor sample, into
+/// `/probes/<name>/fields` of the results file.
 #[derive(Clone, Debug)]
 pub struct Probe<D: Dim> {
     /// Name (used as the HDF5 group name).
     pub name: String,
     /// What is observed.
     pub target: ProbeTarget<D>,
+    /// Output fields sampled at the probe by the run driver (none by default).
+    pub fields: Vec<String>,
     /// Recorded times.
     pub times: Vec<f64>,
     /// Recorded positions.
@@ -494,10 +510,70 @@ impl<D: Dim> Probe<D> {
         ))
     }
 
+    /// A probe on the material point with reference position `x_star` of `body`, in one call:
+    /// [`Probe::point`] with the body's positions and volumes and the Wendland C2 kernel of
+    /// `h = 1.3 dp` (what scene files use, whatever the method).
+    ///
+    /// ```
+    /// use sph_core::generate::{Aabb, Lattice, ParticleSet};
+    /// use sph_core::{glam::DVec2, Body, Probe, D2};
+    ///
+    /// let plate = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(0.1, 0.01))?;
+    /// let body = Body::from(ParticleSet::fill(&Lattice::new(1e-3, DVec2::ZERO)?, &plate)?);
+    /// let tip = Probe::at("tip", DVec2::new(0.1, 0.005), &body)?.with_fields(&["von_mises"]);
+    /// assert_eq!(tip.fields, ["von_mises"]);
+    /// # Ok::<(), sph_core::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// A position outside the kernel support of every particle, or an invalid spacing.
+    pub fn at(name: &str, x_star: D::Vector, body: &crate::Body<D>) -> Result<Self, Error> {
+        let kernel = crate::WendlandC2::<D>::from_spacing(body.dp, PROBE_H_OVER_DP)?;
+        Self::point(name, x_star, &body.positions, &body.volumes, &kernel)
+    }
+
+    /// Asks the run driver to sample these output fields at the probe (see [`Probe::fields`]).
+    pub fn with_fields(mut self, fields: &[&str]) -> Self {
+        self.fields = fields.iter().map(|f| f.to_string()).collect();
+        self
+    }
+
+    /// The value of `field` at the probe: the particle's, or the Shepard average of the
+    /// neighbourhood's with the probe's weights; padded to 3D as in the results file (vectors
+    /// `[3]`, matrices `[3, 3]` row-major with `zz = 1` in 2D).
+    pub fn sample_field(&self, field: &crate::Field<D>) -> Vec<f64> {
+        use crate::Field;
+        let weights: Vec<(usize, f64)> = match &self.target {
+            ProbeTarget::Particle(i) => vec![(*i as usize, 1.0)],
+            ProbeTarget::Point { weights, .. } => {
+                weights.iter().map(|&(j, w, _)| (j as usize, w)).collect()
+            }
+        };
+        match field {
+            Field::Scalar(v) => vec![weights.iter().map(|&(j, w)| v[j] * w).sum()],
+            Field::Vector(v) => {
+                let mut s = D::zero();
+                for &(j, w) in &weights {
+                    s += v[j] * w;
+                }
+                D::to_vec3(s).to_array().to_vec()
+            }
+            Field::Matrix(m) => {
+                let mut s = D::zero_matrix();
+                for &(j, w) in &weights {
+                    s += m[j] * w;
+                }
+                let m3 = D::to_mat3(s, 1.0);
+                (0..3).flat_map(|r| m3.row(r).to_array()).collect()
+            }
+        }
+    }
+
     fn with_target(name: &str, target: ProbeTarget<D>) -> Self {
         Self {
             name: name.to_string(),
             target,
+            fields: Vec::new(),
             times: Vec::new(),
             positions: Vec::new(),
             velocities: Vec::new(),
@@ -556,6 +632,9 @@ pub struct Series {
     pub time: Vec<f64>,
     /// `values[c][k]`: column `c` at sample `k`.
     pub values: Vec<Vec<f64>>,
+    /// What the columns are, their units and signs (written as the series' `description`;
+    /// see [`crate::conventions`]).
+    pub description: String,
 }
 
 impl Series {
@@ -566,7 +645,14 @@ impl Series {
             columns: columns.iter().map(|c| c.to_string()).collect(),
             time: Vec::new(),
             values: vec![Vec::new(); columns.len()],
+            description: String::new(),
         }
+    }
+
+    /// With the description of its columns.
+    pub fn with_description(mut self, description: &str) -> Self {
+        self.description = description.to_string();
+        self
     }
 
     /// Appends one sample (`row` has one value per column).

@@ -37,8 +37,10 @@
 //! hitting the tool does not bounce): right for rigid platens and quasi-static loading; for
 //! elastic impacts between deformable bodies use a method's body–body contact.
 
+use crate::amplitude::Amplitude;
 use crate::dim::Dim;
 use crate::error::{check_non_negative, check_positive, Error};
+use glam::DVec3;
 use std::f64::consts::PI;
 
 /// The geometry of a rigid tool in its initial position.
@@ -246,16 +248,121 @@ impl<D: Dim> ToolShape<D> {
     }
 }
 
-/// A prescribed rigid translation: along a unit `direction` with speed `v(t)` that rises
-/// smoothly from 0 to `speed` over `ramp_time` (`v = speed (1 − cos(π t/T))/2`; a jump when
-/// `ramp_time` is 0), then stays constant until the tool has travelled `travel`, where it stops
-/// and holds its position.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A tool's prescribed rigid motion: a translation `u(t)` and, optionally, a rotation `R(t)`
+/// about an axis through a centre that moves with the translation, so a point `X` of the tool
+/// in its initial position is at `x(t) = c + u(t) + R(t)(X − c)`.
+///
+/// The translation is one of
+/// - a **straight line** ([`ToolMotion::new`]): along a unit `direction` with speed `v(t)` that
+///   rises smoothly from 0 to `speed` over `ramp_time` (`v = speed (1 − cos(π t/T))/2`; a jump
+///   when `ramp_time` is 0), then stays constant until the tool has travelled `travel`, where it
+///   stops and holds its position;
+/// - a **path** ([`ToolMotion::path`]): piecewise linear through waypoints `(t_k, u_k)`, holding
+///   the first before `t_0` and the last after the last time;
+/// - a **velocity curve** ([`ToolMotion::translating`]): `v · a(t)` with an [`Amplitude`], the
+///   displacement its closed-form integral `v ∫₀ᵗ a`.
+///
+/// The rotation ([`ToolMotion::rotating`]) turns by `θ(t) = ω ∫₀ᵗ a` (an angular velocity `ω`
+/// times an amplitude curve, or constant) about `axis` (right-handed; in 2D the z axis).
+#[derive(Clone, Debug, PartialEq)]
 pub struct ToolMotion<D: Dim> {
-    direction: D::Vector,
-    speed: f64,
-    ramp_time: f64,
-    travel: f64,
+    translation: Translation<D>,
+    rotation: Option<ToolRotation<D>>,
+}
+
+/// How a tool translates (see [`ToolMotion`]).
+#[derive(Clone, Debug, PartialEq)]
+enum Translation<D: Dim> {
+    Line {
+        direction: D::Vector,
+        speed: f64,
+        ramp_time: f64,
+        travel: f64,
+    },
+    Path(Vec<(f64, D::Vector)>),
+    Velocity {
+        velocity: D::Vector,
+        amplitude: Option<Amplitude>,
+    },
+}
+
+/// A tool's placement at one time: its translation and rotation (see [`ToolMotion::pose`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose<D: Dim> {
+    /// The translation `u(t)`.
+    pub shift: D::Vector,
+    /// The rotation centre `c` (initial position) and matrix `R(t)`, if the tool turns.
+    pub rotation: Option<(D::Vector, D::Matrix)>,
+}
+
+impl<D: Dim> Pose<D> {
+    /// Where the point `x` in space lies in the tool's initial position:
+    /// `X = c + Rᵀ(x − u − c)` (`x − u` without rotation).
+    #[inline]
+    pub fn to_initial(&self, x: D::Vector) -> D::Vector {
+        let shifted = x - self.shift;
+        match self.rotation {
+            None => shifted,
+            Some((c, r)) => c + D::transpose(r) * (shifted - c),
+        }
+    }
+
+    /// A normal of the tool in its initial position, turned to where the tool is.
+    #[inline]
+    pub fn normal_to_space(&self, n: D::Vector) -> D::Vector {
+        match self.rotation {
+            None => n,
+            Some((_, r)) => r * n,
+        }
+    }
+}
+
+/// A rotation of a tool about an axis through `centre` (its position at `t = 0`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolRotation<D: Dim> {
+    /// A point of the axis, in the tool's initial position.
+    pub centre: D::Vector,
+    /// Unit axis (right-handed; `+z` or `−z` in 2D).
+    pub axis: DVec3,
+    /// Angular velocity (rad/s) that the amplitude scales.
+    pub angular_velocity: f64,
+    /// The amplitude curve of the angular velocity (`None`: constant).
+    pub amplitude: Option<Amplitude>,
+}
+
+impl<D: Dim> ToolRotation<D> {
+    /// The angle turned by time `t` (rad).
+    pub fn angle(&self, t: f64) -> f64 {
+        match &self.amplitude {
+            Some(a) => self.angular_velocity * a.integral(t),
+            None => self.angular_velocity * t.max(0.0),
+        }
+    }
+
+    /// The rotation matrix by time `t`.
+    pub fn matrix(&self, t: f64) -> D::Matrix {
+        rotation_matrix::<D>(self.axis, self.angle(t))
+    }
+}
+
+/// The rotation by `angle` about the unit `axis` (Rodrigues' formula
+/// `R = cos θ I + sin θ [k]× + (1 − cos θ) k kᵀ`; in 2D the in-plane block about `±z`).
+pub fn rotation_matrix<D: Dim>(axis: DVec3, angle: f64) -> D::Matrix {
+    let (s, c) = angle.sin_cos();
+    let k = axis.to_array();
+    D::matrix_from_fn(|r, col| {
+        let cross = match (r, col) {
+            (0, 1) => -k[2],
+            (1, 0) => k[2],
+            (0, 2) => k[1],
+            (2, 0) => -k[1],
+            (1, 2) => -k[0],
+            (2, 1) => k[0],
+            _ => 0.0,
+        };
+        let diagonal = if r == col { c } else { 0.0 };
+        diagonal + s * cross + (1.0 - c) * k[r] * k[col]
+    })
 }
 
 impl<D: Dim> ToolMotion<D> {
@@ -284,39 +391,174 @@ impl<D: Dim> ToolMotion<D> {
         if travel.is_nan() || travel <= 0.0 {
             return Err(Error::invalid("tool travel", travel, "> 0 (or infinite)"));
         }
-        Ok(Self {
+        Ok(Self::translation(Translation::Line {
             direction: direction / len,
             speed,
             ramp_time,
             travel,
-        })
+        }))
     }
 
     /// A tool at rest.
     pub fn fixed() -> Self {
         let mut e = D::zero();
         D::set_component(&mut e, 0, 1.0);
-        Self {
+        Self::translation(Translation::Line {
             direction: e,
             speed: 0.0,
             ramp_time: 0.0,
             travel: f64::INFINITY,
+        })
+    }
+
+    /// A piecewise-linear path through the displacements `u_k` at times `t_k` (strictly
+    /// increasing); the first displacement before `t_0`, the last after the last time.
+    ///
+    /// # Errors
+    /// No waypoint, non-finite times or displacements, times not strictly increasing.
+    pub fn path(points: Vec<(f64, D::Vector)>) -> Result<Self, Error> {
+        if points.is_empty() {
+            return Err(Error::invalid(
+                "tool path",
+                "[]",
+                "at least one waypoint [time, displacement...]",
+            ));
+        }
+        for (k, &(t, u)) in points.iter().enumerate() {
+            if !(t.is_finite() && D::is_finite(u)) {
+                return Err(Error::invalid(
+                    &format!("tool path waypoint {k}"),
+                    format!("{t}, {u:?}"),
+                    "finite time and displacement",
+                ));
+            }
+            if k > 0 && t <= points[k - 1].0 {
+                return Err(Error::invalid(
+                    &format!("tool path waypoint {k} time"),
+                    t,
+                    &format!("> {} (times strictly increasing)", points[k - 1].0),
+                ));
+            }
+        }
+        Ok(Self::translation(Translation::Path(points)))
+    }
+
+    /// A translation at the velocity `velocity · a(t)` (`None`: constant velocity).
+    ///
+    /// # Errors
+    /// A non-finite velocity.
+    pub fn translating(velocity: D::Vector, amplitude: Option<Amplitude>) -> Result<Self, Error> {
+        if !D::is_finite(velocity) {
+            return Err(Error::invalid(
+                "tool velocity",
+                format!("{velocity:?}"),
+                "finite",
+            ));
+        }
+        Ok(Self::translation(Translation::Velocity {
+            velocity,
+            amplitude,
+        }))
+    }
+
+    fn translation(translation: Translation<D>) -> Self {
+        Self {
+            translation,
+            rotation: None,
         }
     }
 
-    /// The unit direction of travel.
+    /// Adds a rotation about `axis` (normalised here; in 2D `±z`) through `centre`, at the
+    /// angular velocity `angular_velocity · a(t)` (rad/s; `None`: constant).
+    ///
+    /// # Errors
+    /// A non-finite centre or angular velocity; a zero or non-finite axis, or in 2D an axis
+    /// other than `±z`.
+    pub fn rotating(
+        mut self,
+        centre: D::Vector,
+        axis: DVec3,
+        angular_velocity: f64,
+        amplitude: Option<Amplitude>,
+    ) -> Result<Self, Error> {
+        let len = axis.length();
+        let planar = D::D == 3 || (axis.x == 0.0 && axis.y == 0.0);
+        if !(len.is_finite() && len > 0.0 && planar) {
+            return Err(Error::invalid(
+                "tool rotation axis",
+                format!("{axis:?}"),
+                if D::D == 2 {
+                    "the z axis, [0, 0, 1] or [0, 0, -1], in 2D"
+                } else {
+                    "finite and non-zero"
+                },
+            ));
+        }
+        if !(D::is_finite(centre) && angular_velocity.is_finite()) {
+            return Err(Error::invalid(
+                "tool rotation",
+                format!("centre {centre:?}, angular velocity {angular_velocity}"),
+                "a finite centre and angular velocity",
+            ));
+        }
+        self.rotation = Some(ToolRotation {
+            centre,
+            axis: axis / len,
+            angular_velocity,
+            amplitude,
+        });
+        Ok(self)
+    }
+
+    /// The rotation, if the tool turns.
+    pub fn rotation(&self) -> Option<&ToolRotation<D>> {
+        self.rotation.as_ref()
+    }
+
+    /// Whether the tool only moves along a straight line (the motion of [`ToolMotion::new`],
+    /// without rotation).
+    pub fn is_straight(&self) -> bool {
+        self.rotation.is_none() && matches!(self.translation, Translation::Line { .. })
+    }
+
+    /// The unit direction of travel of a straight-line motion; for a path or a velocity curve,
+    /// the direction of the displacement at the end (of the velocity), or `x` when it is zero.
     pub fn direction(&self) -> D::Vector {
-        self.direction
+        let v = match &self.translation {
+            Translation::Line { direction, .. } => return *direction,
+            Translation::Path(points) => points[points.len() - 1].1,
+            Translation::Velocity { velocity, .. } => *velocity,
+        };
+        let len = D::norm(v);
+        if len > 0.0 {
+            v / len
+        } else {
+            let mut e = D::zero();
+            D::set_component(&mut e, 0, 1.0);
+            e
+        }
     }
 
-    /// The speed after the ramp (m/s).
+    /// The largest translational speed of the motion (m/s): a straight line's speed after its
+    /// ramp, a path's fastest segment, a velocity curve's `|v| max |a|`. A rotating tool's
+    /// points move faster: see [`RigidTool::max_speed`].
     pub fn speed(&self) -> f64 {
-        self.speed
+        match &self.translation {
+            Translation::Line { speed, .. } => *speed,
+            Translation::Path(points) => points
+                .windows(2)
+                .map(|w| D::norm(w[1].1 - w[0].1) / (w[1].0 - w[0].0))
+                .fold(0.0, f64::max),
+            Translation::Velocity {
+                velocity,
+                amplitude,
+            } => D::norm(*velocity) * amplitude.as_ref().map_or(1.0, Amplitude::max_abs),
+        }
     }
 
-    /// Distance travelled by time `t` before the stop (no clamping).
-    fn free_distance(&self, t: f64) -> f64 {
-        let (v, tr) = (self.speed, self.ramp_time);
+    /// Distance travelled along a straight line by time `t` before the stop (no clamping).
+    fn free_distance(speed: f64, ramp_time: f64, t: f64) -> f64 {
+        let (v, tr) = (speed, ramp_time);
         if t <= 0.0 {
             0.0
         } else if t < tr {
@@ -326,49 +568,131 @@ impl<D: Dim> ToolMotion<D> {
         }
     }
 
-    /// Distance travelled along the direction by time `t`.
+    /// Distance travelled by time `t`: along the line for a straight-line motion, else the
+    /// length of the displacement `|u(t)|`.
     pub fn distance(&self, t: f64) -> f64 {
-        self.free_distance(t).min(self.travel)
-    }
-
-    /// Displacement by time `t`.
-    pub fn displacement(&self, t: f64) -> D::Vector {
-        self.direction * self.distance(t)
-    }
-
-    /// Velocity at time `t` (zero once stopped).
-    pub fn velocity(&self, t: f64) -> D::Vector {
-        if t <= 0.0 || self.free_distance(t) >= self.travel {
-            return D::zero();
+        match &self.translation {
+            Translation::Line {
+                speed,
+                ramp_time,
+                travel,
+                ..
+            } => Self::free_distance(*speed, *ramp_time, t).min(*travel),
+            _ => D::norm(self.displacement(t)),
         }
-        let s = if t < self.ramp_time {
-            0.5 * (1.0 - (PI * t / self.ramp_time).cos())
-        } else {
-            1.0
-        };
-        self.direction * (self.speed * s)
     }
 
-    /// The time at which the tool stops (infinite if it never does).
+    /// Displacement `u(t)` (of the rotation centre, for a rotating tool).
+    pub fn displacement(&self, t: f64) -> D::Vector {
+        match &self.translation {
+            Translation::Line { direction, .. } => *direction * self.distance(t),
+            Translation::Path(points) => {
+                let k = points.partition_point(|p| p.0 <= t);
+                if k == 0 {
+                    return points[0].1;
+                }
+                if k == points.len() {
+                    return points[k - 1].1;
+                }
+                let ((t0, u0), (t1, u1)) = (points[k - 1], points[k]);
+                u0 + (u1 - u0) * ((t - t0) / (t1 - t0))
+            }
+            Translation::Velocity {
+                velocity,
+                amplitude,
+            } => {
+                let s = match amplitude {
+                    Some(a) => a.integral(t),
+                    None => t.max(0.0),
+                };
+                *velocity * s
+            }
+        }
+    }
+
+    /// Translational velocity at time `t` (zero once a straight-line motion stopped; on a
+    /// path, the slope of the segment after `t`).
+    pub fn velocity(&self, t: f64) -> D::Vector {
+        match &self.translation {
+            Translation::Line {
+                direction,
+                speed,
+                ramp_time,
+                travel,
+            } => {
+                if t <= 0.0 || Self::free_distance(*speed, *ramp_time, t) >= *travel {
+                    return D::zero();
+                }
+                let s = if t < *ramp_time {
+                    0.5 * (1.0 - (PI * t / ramp_time).cos())
+                } else {
+                    1.0
+                };
+                *direction * (speed * s)
+            }
+            Translation::Path(points) => {
+                let k = points.partition_point(|p| p.0 <= t);
+                if k == 0 || k == points.len() {
+                    return D::zero();
+                }
+                let ((t0, u0), (t1, u1)) = (points[k - 1], points[k]);
+                (u1 - u0) / (t1 - t0)
+            }
+            Translation::Velocity {
+                velocity,
+                amplitude,
+            } => *velocity * amplitude.as_ref().map_or(1.0, |a| a.at(t)),
+        }
+    }
+
+    /// The angle turned by time `t` (rad; 0 without rotation).
+    pub fn angle(&self, t: f64) -> f64 {
+        self.rotation.as_ref().map_or(0.0, |r| r.angle(t))
+    }
+
+    /// The time at which the tool stops: a straight line's arrival after its travel, a path's
+    /// last waypoint (infinite for a motion that never stops, or a rotating tool).
     pub fn arrival_time(&self) -> f64 {
-        if !self.travel.is_finite() || self.speed <= 0.0 {
+        if self.rotation.is_some() {
             return f64::INFINITY;
         }
-        let ramp_distance = self.free_distance(self.ramp_time);
-        if self.travel >= ramp_distance {
-            return self.ramp_time + (self.travel - ramp_distance) / self.speed;
+        let (speed, ramp_time, travel) = match &self.translation {
+            Translation::Line {
+                speed,
+                ramp_time,
+                travel,
+                ..
+            } => (*speed, *ramp_time, *travel),
+            Translation::Path(points) => return points[points.len() - 1].0.max(0.0),
+            Translation::Velocity { .. } => return f64::INFINITY,
+        };
+        if !travel.is_finite() || speed <= 0.0 {
+            return f64::INFINITY;
+        }
+        let ramp_distance = Self::free_distance(speed, ramp_time, ramp_time);
+        if travel >= ramp_distance {
+            return ramp_time + (travel - ramp_distance) / speed;
         }
         // Inside the ramp: the distance is monotone, bisect.
-        let (mut lo, mut hi) = (0.0, self.ramp_time);
+        let (mut lo, mut hi) = (0.0, ramp_time);
         for _ in 0..200 {
             let mid = 0.5 * (lo + hi);
-            if self.free_distance(mid) < self.travel {
+            if Self::free_distance(speed, ramp_time, mid) < travel {
                 lo = mid;
             } else {
                 hi = mid;
             }
         }
         hi
+    }
+
+    /// The tool's placement at time `t`: what maps points in space to the tool's initial
+    /// position.
+    pub fn pose(&self, t: f64) -> Pose<D> {
+        Pose {
+            shift: self.displacement(t),
+            rotation: self.rotation.as_ref().map(|r| (r.centre, r.matrix(t))),
+        }
     }
 }
 
@@ -403,9 +727,37 @@ impl<D: Dim> RigidTool<D> {
         }
     }
 
+    /// The largest speed of a point of the tool (m/s): its translation's speed, plus for a
+    /// rotating tool the largest angular speed times the distance from the axis's centre to the
+    /// farthest corner of the shape's bounding box (infinite for a turning half-space).
+    pub fn max_speed(&self) -> f64 {
+        let turning = self.motion.rotation().map_or(0.0, |r| {
+            let omega =
+                r.angular_velocity.abs() * r.amplitude.as_ref().map_or(1.0, Amplitude::max_abs);
+            let (lo, hi) = self.shape.bounds();
+            let mut reach = 0.0f64;
+            for corner in 0..(1usize << D::D) {
+                let mut x = D::zero();
+                for k in 0..D::D {
+                    let c = if corner >> k & 1 == 0 { lo } else { hi };
+                    D::set_component(&mut x, k, D::component(c, k));
+                }
+                reach = reach.max(D::norm(x - r.centre));
+            }
+            if omega == 0.0 {
+                0.0
+            } else {
+                omega * reach
+            }
+        });
+        self.motion.speed() + turning
+    }
+
     /// Signed distance and outward normal of the tool at time `t`.
     pub fn distance_at(&self, x: D::Vector, t: f64) -> (f64, D::Vector) {
-        self.shape.distance(x - self.motion.displacement(t))
+        let pose = self.motion.pose(t);
+        let (d, n) = self.shape.distance(pose.to_initial(x));
+        (d, pose.normal_to_space(n))
     }
 
     /// Frictionless kinematic contact (see the [module documentation](self)): for every
@@ -426,7 +778,7 @@ impl<D: Dim> RigidTool<D> {
         masses: &[f64],
         movable: &[bool],
     ) -> ContactOutcome<D> {
-        let shift = self.motion.displacement(t_end);
+        let pose = self.motion.pose(t_end);
         let (lo, hi) = self.shape.bounds();
         let reach = max_offset * (1.0 + 1e-12);
         let mut impulse = D::zero();
@@ -435,7 +787,8 @@ impl<D: Dim> RigidTool<D> {
             if !movable[i] {
                 continue;
             }
-            let x = positions[i] + velocities[i] * lookahead - shift;
+            // The predicted position, in the tool's initial position.
+            let x = pose.to_initial(positions[i] + velocities[i] * lookahead);
             // Cheap rejection against the bounding box grown by the offset.
             if (0..D::D).any(|k| {
                 let c = D::component(x, k);
@@ -444,6 +797,7 @@ impl<D: Dim> RigidTool<D> {
                 continue;
             }
             let (d, n) = self.shape.distance(x);
+            let n = pose.normal_to_space(n);
             let gap = d - offset(i, n);
             if gap < 0.0 {
                 let dv = n * (-gap / lookahead);
@@ -618,6 +972,67 @@ mod tests {
         assert!((m.distance(m.arrival_time()) - 0.1).abs() < 1e-12);
         assert!(ToolMotion::<D2>::new(DVec2::ZERO, 1.0, 0.0, 1.0).is_err());
         assert!(ToolMotion::<D2>::new(DVec2::X, 1.0, 0.0, 0.0).is_err());
+    }
+
+    #[test]
+    fn paths_and_velocity_curves_give_their_displacements() {
+        let p = ToolMotion::<D2>::path(vec![
+            (0.0, DVec2::ZERO),
+            (1.0, DVec2::new(0.0, -2.0)),
+            (3.0, DVec2::new(4.0, -2.0)),
+        ])
+        .unwrap();
+        assert_eq!(p.displacement(-1.0), DVec2::ZERO);
+        assert_eq!(p.displacement(0.5), DVec2::new(0.0, -1.0));
+        assert_eq!(p.displacement(2.0), DVec2::new(2.0, -2.0));
+        assert_eq!(p.displacement(9.0), DVec2::new(4.0, -2.0));
+        assert_eq!(p.velocity(0.5), DVec2::new(0.0, -2.0));
+        assert_eq!(p.velocity(2.0), DVec2::new(2.0, 0.0));
+        assert_eq!(p.velocity(3.5), DVec2::ZERO);
+        assert_eq!((p.arrival_time(), p.distance(2.0)), (3.0, 8f64.sqrt()));
+        assert!(!p.is_straight());
+        assert!(ToolMotion::<D2>::path(vec![(1.0, DVec2::ZERO), (1.0, DVec2::X)]).is_err());
+        assert!(ToolMotion::<D2>::path(Vec::new()).is_err());
+        let ramp = Amplitude::ramp(0.0, 2.0).unwrap();
+        let v = ToolMotion::<D2>::translating(DVec2::new(3.0, 0.0), Some(ramp)).unwrap();
+        // ∫₀¹ t/2 dt = 1/4; after the ramp 1 + (t − 2).
+        assert_eq!(v.displacement(1.0), DVec2::new(0.75, 0.0));
+        assert_eq!(v.displacement(3.0), DVec2::new(6.0, 0.0));
+        assert_eq!(v.velocity(1.0), DVec2::new(1.5, 0.0));
+        assert!(ToolMotion::<D2>::translating(DVec2::new(f64::NAN, 0.0), None).is_err());
+    }
+
+    #[test]
+    fn a_rotating_tool_turns_its_shape_and_normals_about_the_centre() {
+        // A paddle [1, 2] × [−0.1, 0.1] turning about the origin at π/2 rad/s: after 1 s it
+        // stands along +y.
+        let shape = ToolShape::<D2>::cuboid(DVec2::new(1.0, -0.1), DVec2::new(2.0, 0.1)).unwrap();
+        let motion = ToolMotion::fixed()
+            .rotating(DVec2::ZERO, DVec3::Z, 0.5 * PI, None)
+            .unwrap();
+        let tool = RigidTool::new("paddle", shape, motion);
+        assert!((tool.motion.angle(1.0) - 0.5 * PI).abs() < 1e-15);
+        // The point (0, 1.5) is inside the turned paddle, 0.1 from its face at x = −0.1 whose
+        // outward normal is −x (tolerance: round-off of cos(π/2)).
+        let (d, n) = tool.distance_at(DVec2::new(0.0, 1.5), 1.0);
+        assert!((d + 0.1).abs() < 1e-12, "{d}");
+        let (d, n2) = tool.distance_at(DVec2::new(-0.3, 1.5), 1.0);
+        assert!((d - 0.2).abs() < 1e-12 && (n - n2).length() < 1e-12, "{d}");
+        assert!((n - DVec2::new(-1.0, 0.0)).length() < 1e-12, "{n}");
+        // Contact pushes a particle in the paddle's way along the turned normal.
+        let x = vec![DVec2::new(-0.05, 1.5)];
+        let mut v = vec![DVec2::ZERO];
+        let out = tool.enforce_contact(1.0, 0.01, |_, _| 0.0, 0.0, &x, &mut v, &[1.0], &[true]);
+        assert_eq!(out.active, 1);
+        assert!(v[0].x < 0.0 && v[0].y.abs() < 1e-9, "{:?}", v[0]);
+        // 3D: a quarter turn about z through (1, 0, 0) takes (2, 0, 0) to (1, 1, 0).
+        let r = rotation_matrix::<D3>(DVec3::Z, 0.5 * PI);
+        let y = DVec3::X + r * (DVec3::new(2.0, 0.0, 0.0) - DVec3::X);
+        assert!((y - DVec3::new(1.0, 1.0, 0.0)).length() < 1e-15, "{y}");
+        // In 2D only the z axis.
+        assert!(ToolMotion::<D2>::fixed()
+            .rotating(DVec2::ZERO, DVec3::X, 1.0, None)
+            .is_err());
     }
 
     #[test]

@@ -26,8 +26,9 @@ use sph_output::{Dataset, DatasetData};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-/// The checkpoint format version this build writes and reads.
-pub const FORMAT_VERSION: u32 = 1;
+/// The checkpoint format version this build writes (it also reads version 1, which has no
+/// probe fields: version 2 added the output fields sampled at the probes).
+pub const FORMAT_VERSION: u32 = 2;
 
 const MAGIC: &[u8; 8] = b"SPHCKPT\0";
 const HEADER_LEN: usize = 32;
@@ -245,11 +246,11 @@ impl Checkpoint {
         }
         let word = |k: usize| u64::from_le_bytes(header[k..k + 8].try_into().expect("8 bytes"));
         let version = u32::from_le_bytes(header[8..12].try_into().expect("4 bytes"));
-        if version != FORMAT_VERSION {
+        if !(1..=FORMAT_VERSION).contains(&version) {
             return Err(corrupt(
                 path,
                 format!(
-                    "format version {version}; this sph ({}) reads version {FORMAT_VERSION}",
+                    "format version {version}; this sph ({}) reads versions 1 to {FORMAT_VERSION}",
                     env!("CARGO_PKG_VERSION")
                 ),
             ));
@@ -295,10 +296,10 @@ impl Checkpoint {
                 "corrupt: the checksum does not match its contents",
             ));
         }
-        Self::decode(path, &body).map_err(|e| corrupt(path, e))
+        Self::decode(path, &body, version).map_err(|e| corrupt(path, e))
     }
 
-    fn decode(path: &Path, body: &[u8]) -> Result<Self, sph_core::Error> {
+    fn decode(path: &Path, body: &[u8], version: u32) -> Result<Self, sph_core::Error> {
         let mut r = StateReader::new(body);
         let json = |r: &mut StateReader<'_>, what: &str| -> Result<Json, sph_core::Error> {
             serde_json::from_str(r.str()?)
@@ -314,7 +315,7 @@ impl Checkpoint {
                 ))
             }
         };
-        let driver = read_driver(&mut r)?;
+        let driver = read_driver(&mut r, version)?;
         let solver = r.bytes()?.to_vec();
         if !r.is_at_end() {
             return Err(sph_core::Error::Checkpoint(
@@ -433,6 +434,18 @@ fn write_driver(w: &mut StateWriter, d: &DriverState) {
         })
         .collect();
     w.f64s("monitor_budget_values", &values);
+    let counts: Vec<u64> = d
+        .monitor
+        .iter()
+        .map(|m| m.probe_fields.len() as u64)
+        .collect();
+    w.u64s("monitor_probe_counts", &counts);
+    let values: Vec<f64> = d
+        .monitor
+        .iter()
+        .flat_map(|m| m.probe_fields.iter().copied())
+        .collect();
+    w.f64s("monitor_probe_values", &values);
     w.begin("snapshots", d.snapshots.len());
     for s in &d.snapshots {
         w.f64s("snapshot", &[s.time]);
@@ -450,7 +463,7 @@ fn write_driver(w: &mut StateWriter, d: &DriverState) {
     }
 }
 
-fn read_driver(r: &mut StateReader<'_>) -> Result<DriverState, sph_core::Error> {
+fn read_driver(r: &mut StateReader<'_>, version: u32) -> Result<DriverState, sph_core::Error> {
     let [next_snapshot, next_monitor, last_snapshot, solver_seconds] = r.scalars::<4>("driver")?;
     let time = r.f64s("monitor_time", None)?;
     let n = Some(time.len());
@@ -471,6 +484,7 @@ fn read_driver(r: &mut StateReader<'_>) -> Result<DriverState, sph_core::Error> 
             strain: strain[k],
             budget: None,
             pieces: None,
+            probe_fields: Vec::new(),
         })
         .collect::<Vec<_>>();
     let mut monitor = monitor;
@@ -488,6 +502,20 @@ fn read_driver(r: &mut StateReader<'_>) -> Result<DriverState, sph_core::Error> 
     let (terms, notes) = (shape[0] as usize, shape[1] as usize);
     let count = present.iter().filter(|&&p| p).count();
     let values = r.f64s("monitor_budget_values", Some(count * (terms + notes + 1)))?;
+    if version >= 2 {
+        let counts = r.u64s("monitor_probe_counts", n)?;
+        let total = counts
+            .iter()
+            .try_fold(0usize, |a, &c| a.checked_add(usize::try_from(c).ok()?))
+            .ok_or_else(|| sph_core::Error::Checkpoint("probe field counts overflow".into()))?;
+        let values = r.f64s("monitor_probe_values", Some(total))?;
+        let mut rest = values.as_slice();
+        for (m, &c) in monitor.iter_mut().zip(&counts) {
+            let (mine, others) = rest.split_at(c as usize);
+            m.probe_fields = mine.to_vec();
+            rest = others;
+        }
+    }
     let pending_budgets = Some(PendingBudgets {
         names,
         terms,
@@ -599,11 +627,19 @@ mod tests {
             next_monitor: 0.25,
             last_snapshot: 0.0,
             solver_seconds: 1.5,
-            monitor: vec![MonitorSample {
-                time: 0.0,
-                kinetic: f64::NAN,
-                ..Default::default()
-            }],
+            monitor: vec![
+                MonitorSample {
+                    time: 0.0,
+                    kinetic: f64::NAN,
+                    probe_fields: vec![1.5, -2.0],
+                    ..Default::default()
+                },
+                MonitorSample {
+                    time: 0.1,
+                    probe_fields: vec![3.0, 4.0],
+                    ..Default::default()
+                },
+            ],
             snapshots: vec![SavedSnapshot {
                 time: 0.0,
                 step: 0,
@@ -616,6 +652,8 @@ mod tests {
         let c = Checkpoint::load(&path).unwrap();
         assert_eq!((c.run, c.meta, c.solver), (run, meta, b"solver".to_vec()));
         assert!(c.driver.monitor[0].kinetic.is_nan());
+        let probes: Vec<_> = c.driver.monitor.iter().map(|m| &m.probe_fields).collect();
+        assert_eq!(probes, [&vec![1.5, -2.0], &vec![3.0, 4.0]]);
         assert_eq!(c.driver.snapshots, driver.snapshots);
         let bytes = std::fs::read(&path).unwrap();
         let damaged = |b: &[u8]| {

@@ -1,5 +1,6 @@
 //! Error estimates from a resolution ladder, and the ladder that stops when a tolerance is met
-//! or the next level would exceed a budget (`sph converge`; [`converge`] from Rust).
+//! or the next level would exceed a budget (`sph converge`; `sph_cases::converge::converge`
+//! from Rust).
 //!
 //! A quantity `f` computed at particle spacings `h₁ > h₂ > … > hₙ` (finer and finer) is
 //! fitted as `f(h) = f₀ + α hᵖ` in the manner of the grid convergence index (Roache 1998) and

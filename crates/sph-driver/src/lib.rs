@@ -12,6 +12,35 @@
 //! results files as the `sph` command without the command line's dependencies. Progress is
 //! reported to an optional callback ([`RunOptions::progress`]); the `sph` command draws it as a
 //! progress bar or log lines.
+//!
+//! ```
+//! use sph_core::generate::{Aabb, Lattice, ParticleSet};
+//! use sph_core::{glam::DVec2, Body, Constraints, Probe, D2};
+//! use sph_driver::Run;
+//! use sph_materials::{ElasticConstants, NeoHookean};
+//! use sph_tl::{Shear, TlParams, TlSolver};
+//!
+//! // A 20 × 4 mm plate clamped at its left end, its right end thrown upward: TL-HF for 2 ms.
+//! let dp = 1e-3;
+//! let plate = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(0.02, 0.004))?;
+//! let set = ParticleSet::fill(&Lattice::new(dp, DVec2::ZERO)?, &plate)?;
+//! let (clamp, n) = (set.select(|x| x.x < dp), set.len());
+//! let body = Body::from(set).with_velocity(|x| DVec2::new(0.0, 50.0 * x.x));
+//! let tip = Probe::at("tip", DVec2::new(0.02, 0.002), &body)?.with_fields(&["von_mises"]);
+//! let law = NeoHookean::new(ElasticConstants::from_youngs(1e6, 0.3, 1000.0)?);
+//! let mut solver = TlSolver::new(body, law, Shear::hourglass_free(), TlParams::default())?
+//!     .with_constraints(Constraints::fixed(clamp, n)?)
+//!     .with_probes(vec![tip], 0.0)?;
+//! let dir = std::env::temp_dir().join(format!("sph-driver-doc-{}", std::process::id()));
+//! let (record, summary) = Run::until(2e-3)
+//!     .named("plate")
+//!     .write_to(dir.join("plate"))    // plate.h5 and plate.xmf
+//!     .execute(&mut solver)?;
+//! assert_eq!(summary["status"], "completed");
+//! assert!(record.file.is_some() && record.steps > 0);
+//! # std::fs::remove_dir_all(&dir)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![deny(missing_docs)]
 
 pub mod checkpoint;

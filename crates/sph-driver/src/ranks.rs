@@ -58,11 +58,16 @@ impl ResultWriter for Discard {
         Ok(())
     }
 
+    fn write_probe_fields(&mut self, _: &str, _: &[f64], _: &[Dataset]) -> Result<(), OutputError> {
+        Ok(())
+    }
+
     fn write_series(
         &mut self,
         _: &str,
         _: &[f64],
         _: &[(&str, &[f64])],
+        _: &str,
     ) -> Result<(), OutputError> {
         Ok(())
     }

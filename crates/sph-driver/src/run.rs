@@ -6,8 +6,10 @@
 use crate::checkpoint::{self, Checkpoint, CheckpointPlan, DriverState, Every, SavedSnapshot};
 use crate::error::DriverError;
 use serde_json::{json, Map, Value as Json};
+use sph_core::conventions;
 use sph_core::disorder::DisorderStats;
 use sph_core::{Dim, EnergyBudget, Field, Solver, StateReader, StateWriter};
+use sph_output::vtu::VtuSeries;
 use sph_output::{create_writer_with, Backend, Compression, Dataset, ResultWriter};
 use std::path::Path;
 use std::path::PathBuf;
@@ -107,6 +109,10 @@ pub struct RunOptions {
     /// `<output>.xmf`, which presents the ranks' files as one body. Off: rank 0 gathers the
     /// snapshots into the one file `<output>.h5`. Needs `output`.
     pub per_rank_output: bool,
+    /// Also write every snapshot as a VTK XML file `<output>_<k>.vtu` and their collection
+    /// `<output>.pvd` ([`sph_output::vtu`]), which ParaView, PyVista and meshio read without
+    /// an XDMF reader. Needs `output`; not with `per_rank_output`.
+    pub vtu: bool,
 }
 
 /// A flag a signal handler sets to the signal's number (0: not interrupted).
@@ -186,6 +192,13 @@ pub fn drive<D: Dim>(
     }
     let comm = options.ranks.as_ref().filter(|c| c.size() > 1);
     let root = comm.is_none_or(|c| c.rank() == 0);
+    if options.vtu && (options.output.is_none() || options.per_rank_output) {
+        return Err(DriverError::InvalidValue {
+            key: "vtu".into(),
+            value: "on".into(),
+            allowed: "off when no results file is written, or with per-rank output".into(),
+        });
+    }
     if options.per_rank_output && options.output.is_none() {
         return Err(DriverError::InvalidValue {
             key: "per_rank_output".into(),
@@ -194,6 +207,15 @@ pub fn drive<D: Dim>(
         });
     }
     check_fields(solver, fields)?;
+    check_probe_fields(solver, comm.is_some())?;
+    // What the numbers mean, in the file itself (the user guide quotes the same sentences).
+    meta.insert("units".into(), json!(conventions::UNITS));
+    meta.insert("dimension".into(), json!(D::D));
+    if D::D == 2 {
+        meta.insert("per_unit_depth".into(), json!(conventions::PLANE_STRAIN));
+    }
+    meta.insert("reaction_forces".into(), json!(conventions::REACTIONS));
+    meta.insert("probes".into(), json!(conventions::PROBES));
     let estimate = crate::guard::Estimate::of(solver, &schedule, fields, options);
     estimate.check(&schedule, options)?;
     if options.resume.is_none() {
@@ -260,6 +282,17 @@ pub fn drive<D: Dim>(
     };
     // Per-rank output: this rank's own file of snapshots, and on rank 0 what the XDMF file
     // presenting them as one body needs.
+    // Per-frame VTU files and their collection (rank 0).
+    let mut frames: Option<VtuSeries> = match &options.output {
+        Some(path) if options.vtu && root => {
+            let mut v = VtuSeries::create(path)?;
+            for snap in resumed.iter().flat_map(|d| &d.snapshots) {
+                v.write_frame(snap.time, snap.step, &snap.datasets)?;
+            }
+            Some(v)
+        }
+        _ => None,
+    };
     let mut own: Option<crate::ranks::RankOutput> = match &options.output {
         Some(path) if options.per_rank_output => {
             let rank = comm.map_or(0, |c| c.rank());
@@ -320,6 +353,10 @@ pub fn drive<D: Dim>(
         if t + eps >= next_snapshot {
             let written = write_snapshot(own.as_mut(), writer.as_mut(), solver, fields);
             if let Some((result, sets)) = written {
+                let result = result.and_then(|()| match frames.as_mut() {
+                    Some(v) => v.write_frame(t, solver.step_count(), &sets),
+                    None => Ok(()),
+                });
                 match result {
                     Err(e) => record.failure = Some(format!("writing the results: {e}")),
                     Ok(()) => {
@@ -402,8 +439,14 @@ pub fn drive<D: Dim>(
     // Interrupted between snapshots: keep the state reached (it is a good one).
     if record.interrupted.is_some() && record.failure.is_none() && solver.time() > last_snapshot {
         let written = write_snapshot(own.as_mut(), writer.as_mut(), solver, fields);
-        if let Some((Err(e), _)) = written {
-            record.failure = Some(format!("writing the results: {e}"));
+        if let Some((result, sets)) = written {
+            let result = result.and_then(|()| match frames.as_mut() {
+                Some(v) => v.write_frame(solver.time(), solver.step_count(), &sets),
+                None => Ok(()),
+            });
+            if let Err(e) = result {
+                record.failure = Some(format!("writing the results: {e}"));
+            }
         }
     }
     record.steps = solver.step_count();
@@ -442,7 +485,7 @@ pub fn drive<D: Dim>(
     }
     if let Some(w) = writer {
         let temp = w.temp_path().to_path_buf();
-        match complete::<D>(w, solver, &summary) {
+        match complete::<D>(w, solver, &record.monitor, &summary) {
             Ok(file) => {
                 if let (Some(c), Some(base)) = (collection.filter(|_| root), &options.output) {
                     let counts = solver
@@ -464,6 +507,17 @@ pub fn drive<D: Dim>(
                     first.map(|f| format!("{f}; ")).unwrap_or_default(),
                     temp.display()
                 ));
+                summary.insert("status".into(), json!(record.status()));
+            }
+        }
+    }
+    if let Some(v) = frames {
+        match v.finish() {
+            Ok(pvd) => record.collection = Some(pvd),
+            Err(e) => {
+                record
+                    .failure
+                    .get_or_insert(format!("writing the VTU collection: {e}"));
                 summary.insert("status".into(), json!(record.status()));
             }
         }
@@ -634,10 +688,12 @@ fn steps_until<D: Dim>(
     }
 }
 
-/// Writes the probes, the series and the summary and finishes the file.
+/// Writes the probes (with the fields sampled at them), the series and the summary and
+/// finishes the file.
 fn complete<D: Dim>(
     mut w: Box<dyn ResultWriter>,
     solver: &dyn Solver<D>,
+    monitor: &[MonitorSample],
     summary: &Map<String, Json>,
 ) -> Result<PathBuf, sph_output::OutputError> {
     for p in solver.probes() {
@@ -653,6 +709,9 @@ fn complete<D: Dim>(
             .collect();
         w.write_probe(&p.name, &p.times, &pos, &vel)?;
     }
+    for (name, times, sets) in probe_field_datasets(solver, monitor) {
+        w.write_probe_fields(&name, &times, &sets)?;
+    }
     for s in solver.series() {
         let columns: Vec<(&str, &[f64])> = s
             .columns
@@ -660,7 +719,7 @@ fn complete<D: Dim>(
             .zip(&s.values)
             .map(|(c, v)| (c.as_str(), v.as_slice()))
             .collect();
-        w.write_series(&s.name, &s.time, &columns)?;
+        w.write_series(&s.name, &s.time, &columns, &s.description)?;
     }
     w.write_summary(summary)?;
     w.finish()
@@ -700,7 +759,126 @@ fn sample<D: Dim>(solver: &dyn Solver<D>) -> MonitorSample {
         strain,
         budget: solver.energy_budget(),
         pieces,
+        probe_fields: sample_probe_fields(solver),
     }
+}
+
+/// The output fields the probes ask for, sampled at them (each field computed once).
+fn sample_probe_fields<D: Dim>(solver: &dyn Solver<D>) -> Vec<f64> {
+    let mut computed: Vec<(&str, Option<Field<D>>)> = Vec::new();
+    let mut out = Vec::new();
+    for p in solver.probes() {
+        for name in &p.fields {
+            let k = match computed.iter().position(|(n, _)| n == name) {
+                Some(k) => k,
+                None => {
+                    computed.push((name, solver.field(name)));
+                    computed.len() - 1
+                }
+            };
+            // Checked before the run ([`check_probe_fields`]): the solver offers it.
+            if let Some(f) = &computed[k].1 {
+                out.extend(p.sample_field(f));
+            }
+        }
+    }
+    out
+}
+
+/// Probe fields must be fields the solver offers, once per probe, and are not sampled on
+/// several ranks (the probes hold a rank's local indices, the fields the whole body).
+fn check_probe_fields<D: Dim>(
+    solver: &dyn Solver<D>,
+    distributed: bool,
+) -> Result<(), DriverError> {
+    let offered = solver.field_names();
+    for p in solver.probes() {
+        for (k, name) in p.fields.iter().enumerate() {
+            let bad = |allowed: String| DriverError::InvalidValue {
+                key: format!("probe `{}` field", p.name),
+                value: name.clone(),
+                allowed,
+            };
+            if !offered.contains(&name.as_str()) {
+                return Err(bad(format!(
+                    "a field of {}: {}",
+                    solver.method(),
+                    offered.join(", ")
+                )));
+            }
+            if p.fields[..k].contains(name) {
+                return Err(bad("each field once".into()));
+            }
+            if distributed {
+                return Err(bad(
+                    "no probe fields on more than one rank (not supported yet)".into(),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The probe fields of the monitor samples, per probe that has some: its name, the sample
+/// times and one dataset per field (`[k]`, `[k, 3]` or `[k, 3, 3]` by the field's kind).
+fn probe_field_datasets<D: Dim>(
+    solver: &dyn Solver<D>,
+    monitor: &[MonitorSample],
+) -> Vec<(String, Vec<f64>, Vec<Dataset>)> {
+    let width = |name: &str| match solver.field(name) {
+        Some(Field::Vector(_)) => 3,
+        Some(Field::Matrix(_)) => 9,
+        _ => 1,
+    };
+    let probes: Vec<_> = solver
+        .probes()
+        .iter()
+        .filter(|p| !p.fields.is_empty())
+        .map(|p| (p.name.clone(), p.fields.clone()))
+        .collect();
+    let widths: Vec<Vec<usize>> = probes
+        .iter()
+        .map(|(_, f)| f.iter().map(|n| width(n)).collect())
+        .collect();
+    let total: usize = widths.iter().flatten().sum();
+    // Samples taken with the probe fields (all of them, unless resumed from a checkpoint
+    // written before the fields were recorded).
+    let samples: Vec<&MonitorSample> = monitor
+        .iter()
+        .filter(|m| m.probe_fields.len() == total)
+        .collect();
+    let times: Vec<f64> = samples.iter().map(|m| m.time).collect();
+    let mut offset = 0;
+    let mut out = Vec::new();
+    for ((name, fields), widths) in probes.iter().zip(&widths) {
+        let mut sets = Vec::new();
+        for (field, &w) in fields.iter().zip(widths) {
+            let values: Vec<f64> = samples
+                .iter()
+                .flat_map(|m| m.probe_fields[offset..offset + w].iter().copied())
+                .collect();
+            sets.push(match w {
+                1 => Dataset::scalars(field, &values),
+                3 => Dataset::vectors(
+                    field,
+                    &values
+                        .chunks_exact(3)
+                        .map(|c| [c[0], c[1], c[2]])
+                        .collect::<Vec<_>>(),
+                ),
+                _ => Dataset::matrices(
+                    field,
+                    &values
+                        .chunks_exact(9)
+                        .map(|c| [[c[0], c[1], c[2]], [c[3], c[4], c[5]], [c[6], c[7], c[8]]])
+                        .collect::<Vec<_>>(),
+                ),
+            });
+            offset += w;
+        }
+        out.push((name.clone(), times.clone(), sets));
+    }
+    out
 }
 
 /// A run of a scene built in Rust, with the `sph` command's defaults: an end time, snapshots
@@ -785,6 +963,13 @@ impl Run {
     /// [`Run::write_to`], is an error from [`Run::execute`].
     pub fn compress(mut self, level: u8) -> Self {
         self.options.compression = Compression::Deflate(level);
+        self
+    }
+
+    /// Also writes every snapshot as a VTU file and their `.pvd` collection beside the results
+    /// ([`RunOptions::vtu`]; needs [`Run::write_to`]).
+    pub fn vtu(mut self) -> Self {
+        self.options.vtu = true;
         self
     }
 

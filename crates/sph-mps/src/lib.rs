@@ -7,7 +7,7 @@
 //! - [`wls`]: the weight of eq 6, the moment matrix `A_i` of eq 5, the weighted-least-squares
 //!   deformation gradient of eq 4, and the energy-consistent force of eq 7 (`f_i = −∂U/∂x_i`,
 //!   `U = Σ_i V_i ψ(F_i)`);
-//! - [`pressure`]: follower surface pressure on tagged boundary particles (Nanson's formula);
+//! - [`sph_core::pressure`]: follower surface pressure on tagged boundary particles (Nanson's formula);
 //! - [`stabilisation`] (beyond the paper, off by default): a penalty potential on the residual
 //!   of the WLS fit that removes the zero-energy modes of eq 4–5 and keeps the model
 //!   Hamiltonian;
@@ -42,13 +42,17 @@
 //! ```
 #![deny(missing_docs)]
 
+/// glam, whose f64 vectors and matrices (`DVec2`, `DVec3`, `DMat2`, `DMat3`) every API here
+/// takes: `use sph_mps::glam::DVec2;` needs no glam dependency of your own.
+pub use glam;
+
 pub mod contact;
-pub mod pressure;
 pub mod solver;
 pub mod stabilisation;
 pub mod wls;
 
 pub use contact::Contact;
-pub use pressure::{PressureFunction, SurfacePressure};
 pub use solver::{distribute, Energy, Integrator, MpsParams, MpsSolver};
+/// The follower surface pressure (in `sph_core::pressure`, shared with TL).
+pub use sph_core::pressure::{PressureFunction, SurfacePressure};
 pub use wls::Fit;

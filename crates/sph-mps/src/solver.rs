@@ -3,9 +3,8 @@
 //! `Δt = C l0 / c`.
 
 use crate::contact::{Contact, ResolvedContact};
-use crate::pressure::{ResolvedPressure, SurfacePressure};
 use crate::stabilisation::Stabilisation;
-use crate::wls::{self, cofactor, Fit};
+use crate::wls::{self, Fit};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sph_core::correction::DEFAULT_MIN_EIGENVALUE;
@@ -13,6 +12,7 @@ use sph_core::diagnostics;
 use sph_core::disorder::{disorder_indicator, ReferenceWeights};
 use sph_core::distributed::OverRanks;
 use sph_core::error::{check_closed_range, check_non_negative, check_open_range, check_positive};
+use sph_core::pressure::{ResolvedPressure, SurfacePressure};
 use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
@@ -204,7 +204,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         self
     }
 
-    /// Adds a follower surface pressure (see [`crate::pressure`]); normals left `None` are
+    /// Adds a follower surface pressure (see [`sph_core::pressure`]); normals left `None` are
     /// estimated from the reference neighbourhood.
     ///
     /// # Errors
@@ -347,13 +347,14 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         {
             *a = f * im;
         }
+        let inv_masses = &self.inv_masses;
         for sp in &self.pressures {
-            let p = sp.pressure.at(self.time);
-            for (&i, &an) in sp.particles.iter().zip(&sp.area_normal) {
-                let i = i as usize;
-                let f = cofactor::<D>(self.deformation[i]) * an * (-p);
-                self.accelerations[i] += f * self.inv_masses[i];
-            }
+            sp.add_accelerations(
+                self.time,
+                &self.deformation,
+                |i| inv_masses[i],
+                &mut self.accelerations,
+            );
         }
         if !self.loads.is_empty() {
             self.loads

@@ -10,7 +10,8 @@
 //! | `/meta` | one attribute per key of the run's metadata (see [JSON values](#json-values)) plus `json`, the whole map as a JSON string |
 //! | `/snapshots/<n>` | one group per snapshot, `n` = `000000`, `000001`, … (six digits, more only past 999 999, so the names sort lexically in time order), attributes `time` (f64) and `step` (u64), one dataset per field |
 //! | `/probes/<name>` | datasets `time` `[m]`, `position` `[m, 3]`, `velocity` `[m, 3]` (all f64) |
-//! | `/series/<name>` | dataset `time` `[m]` and one f64 dataset `[m]` per column (a tool's or grip's travel and reaction force, …); since format version 2 |
+//! | `/probes/<name>/fields` | output fields sampled at the probe (at the monitor times): `time` `[k]`, one dataset per field, `[k]`, `[k, 3]` or `[k, 3, 3]` |
+//! | `/series/<name>` | dataset `time` `[m]` and one f64 dataset `[m]` per column (a tool's or grip's travel and reaction force, …), attribute `description` (the columns, their units and signs); since format version 2 |
 //! | `/summary` | one attribute per key of the run's summary plus `json`, the whole map as a JSON string |
 //!
 //! and a sidecar `<name>.xmf` (XDMF 3): a temporal collection of the snapshots, each a
@@ -105,6 +106,7 @@ mod pure;
 mod ranks;
 mod read;
 pub mod safety;
+pub mod vtu;
 mod writer;
 pub mod xdmf;
 
@@ -154,14 +156,27 @@ pub trait ResultWriter: Send {
         velocities: &[[f64; 3]],
     ) -> Result<(), OutputError>;
 
+    /// Writes output fields sampled at probe `name` (written before with
+    /// [`write_probe`](Self::write_probe)) as `/probes/<name>/fields/time` plus one dataset per
+    /// field: `[m]` for a scalar, `[m, 3]` for a vector, `[m, 3, 3]` for a matrix (row-major),
+    /// each with `times.len()` rows.
+    fn write_probe_fields(
+        &mut self,
+        name: &str,
+        times: &[f64],
+        fields: &[Dataset],
+    ) -> Result<(), OutputError>;
+
     /// Writes series `name` as `/series/<name>/time` plus one f64 dataset per column (names
-    /// unique, not `time`, free of `/`; each column as long as `times`). A series name may be
-    /// written once.
+    /// unique, not `time`, free of `/`; each column as long as `times`), and `description`
+    /// (what the columns are, their units and signs) as the group's attribute `description`
+    /// when it is not empty. A series name may be written once.
     fn write_series(
         &mut self,
         name: &str,
         times: &[f64],
         columns: &[(&str, &[f64])],
+        description: &str,
     ) -> Result<(), OutputError>;
 
     /// Writes the run's summary to `/summary`: one attribute per key plus the full map as the

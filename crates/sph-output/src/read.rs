@@ -40,15 +40,27 @@ pub struct Probe {
     pub positions: Vec<[f64; 3]>,
     /// `velocity`, one row per time.
     pub velocities: Vec<[f64; 3]>,
+    /// `fields/*`: the output fields sampled at the probe, with their own `time` (empty when
+    /// none were asked for).
+    pub fields: Vec<Dataset>,
 }
 
-/// One series read back: `time` and the columns by name.
+impl Probe {
+    /// The sampled field called `name` (`time` for the sample times), if any.
+    pub fn field(&self, name: &str) -> Option<&Dataset> {
+        self.fields.iter().find(|d| d.name == name)
+    }
+}
+
+/// One series read back: `time`, the columns by name and the description.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Series {
     /// `time`.
     pub times: Vec<f64>,
     /// The other datasets of the group, by name.
     pub columns: BTreeMap<String, Vec<f64>>,
+    /// The attribute `description` (empty if absent).
+    pub description: String,
 }
 
 /// Everything in a results file.
@@ -143,10 +155,26 @@ pub fn read_file(path: impl AsRef<Path>) -> Result<FileContents, OutputError> {
         let rows = |v: Vec<f64>| -> Vec<[f64; 3]> {
             v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
         };
+        let mut fields = Vec::new();
+        if let Ok(g) = file.group(&format!("probes/{name}/fields")) {
+            let mut names = g
+                .datasets()
+                .map_err(|e| err(path, format!("list /probes/{name}/fields"), e))?;
+            names.sort();
+            for d in names {
+                fields.push(read_dataset(
+                    &file,
+                    path,
+                    &format!("probes/{name}/fields/{d}"),
+                    &d,
+                )?);
+            }
+        }
         let probe = Probe {
             times: f("time")?,
             positions: rows(f("position")?),
             velocities: rows(f("velocity")?),
+            fields,
         };
         probes.insert(name, probe);
     }
@@ -175,7 +203,18 @@ pub fn read_file(path: impl AsRef<Path>) -> Result<FileContents, OutputError> {
             let times = columns.remove("time").ok_or_else(|| {
                 OutputError::layout(path, format!("/series/{name} has no `time` dataset"))
             })?;
-            series.insert(name, Series { times, columns });
+            let description = match g.attrs().ok().and_then(|a| a.get("description").cloned()) {
+                Some(AttrValue::String(s) | AttrValue::VarLenString(s)) => s,
+                _ => String::new(),
+            };
+            series.insert(
+                name,
+                Series {
+                    times,
+                    columns,
+                    description,
+                },
+            );
         }
     }
 

@@ -75,6 +75,7 @@ pub(crate) struct LayoutWriter {
     sink: Box<dyn Sink>,
     snapshots: Vec<XdmfSnapshot>,
     probes: Vec<String>,
+    probe_fields: Vec<String>,
     series: Vec<String>,
 }
 
@@ -105,6 +106,7 @@ impl LayoutWriter {
             sink,
             snapshots: Vec::new(),
             probes: Vec::new(),
+            probe_fields: Vec::new(),
             series: Vec::new(),
         })
     }
@@ -253,11 +255,59 @@ impl ResultWriter for LayoutWriter {
         Ok(())
     }
 
+    fn write_probe_fields(
+        &mut self,
+        name: &str,
+        times: &[f64],
+        fields: &[Dataset],
+    ) -> Result<(), OutputError> {
+        let invalid =
+            |m: String| OutputError::invalid(self.tmp.path(), format!("probe {name:?}: {m}"));
+        if !self.probes.iter().any(|p| p == name) {
+            return Err(invalid("fields written before the probe".into()));
+        }
+        if self.probe_fields.iter().any(|p| p == name) {
+            return Err(invalid("fields written twice".into()));
+        }
+        let mut names = std::collections::BTreeSet::from(["time"]);
+        for ds in fields {
+            ds.validate().map_err(&invalid)?;
+            if !names.insert(ds.name.as_str()) {
+                return Err(invalid(format!(
+                    "field {:?} repeated or named `time`",
+                    ds.name
+                )));
+            }
+            if ds.shape().first() != Some(&times.len()) {
+                return Err(invalid(format!(
+                    "field {:?}: {:?} rows for {} times",
+                    ds.name,
+                    ds.shape().first(),
+                    times.len()
+                )));
+            }
+        }
+        let t = Dataset::scalars("time", times);
+        let mut sets = vec![&t];
+        sets.extend(fields);
+        self.sink.write_group(
+            &GroupSpec {
+                path: format!("probes/{name}/fields"),
+                attrs: Vec::new(),
+                datasets: sets,
+            },
+            false,
+        )?;
+        self.probe_fields.push(name.to_string());
+        Ok(())
+    }
+
     fn write_series(
         &mut self,
         name: &str,
         times: &[f64],
         columns: &[(&str, &[f64])],
+        description: &str,
     ) -> Result<(), OutputError> {
         check_name(name).map_err(|e| {
             OutputError::invalid(self.tmp.path(), format!("series name {name:?}: {e}"))
@@ -294,10 +344,18 @@ impl ResultWriter for LayoutWriter {
             }
             sets.push(Dataset::scalars(*c, values));
         }
+        let attrs = if description.is_empty() {
+            Vec::new()
+        } else {
+            vec![(
+                "description".to_string(),
+                Attr::Str(description.to_string()),
+            )]
+        };
         self.sink.write_group(
             &GroupSpec {
                 path: format!("series/{name}"),
-                attrs: Vec::new(),
+                attrs,
                 datasets: sets.iter().collect(),
             },
             false,

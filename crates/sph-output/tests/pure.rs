@@ -170,13 +170,17 @@ fn rejected_calls_leave_the_writer_usable() {
     w.write_probe("p", &[0.0], &[[1.0, 2.0, 3.0]], &[[0.0; 3]])
         .unwrap();
     // Series: wrong length, column named time, repeated column, twice: rejected.
-    assert!(w.write_series("s", &[0.0, 1.0], &[("f", &[1.0])]).is_err());
-    assert!(w.write_series("s", &[0.0], &[("time", &[1.0])]).is_err());
     assert!(w
-        .write_series("s", &[0.0], &[("f", &[1.0]), ("f", &[2.0])])
+        .write_series("s", &[0.0, 1.0], &[("f", &[1.0])], "")
         .is_err());
-    w.write_series("s", &[0.0], &[("f", &[1.0])]).unwrap();
-    assert!(w.write_series("s", &[0.0], &[("f", &[1.0])]).is_err());
+    assert!(w
+        .write_series("s", &[0.0], &[("time", &[1.0])], "")
+        .is_err());
+    assert!(w
+        .write_series("s", &[0.0], &[("f", &[1.0]), ("f", &[2.0])], "")
+        .is_err());
+    w.write_series("s", &[0.0], &[("f", &[1.0])], "").unwrap();
+    assert!(w.write_series("s", &[0.0], &[("f", &[1.0])], "").is_err());
     let e = w
         .write_probe("p", &[0.0], &[[1.0, 2.0, 3.0]], &[[0.0; 3]])
         .unwrap_err();

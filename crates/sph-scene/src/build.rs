@@ -1,8 +1,10 @@
 //! From a parsed scene to a running solver: shapes to particle sets, the material, the method,
 //! regions to constraints/loads/probes, tools, and the run through `sph-driver`.
 
+use crate::resolve::{resolve, Override, Resolved};
 use crate::spec::{
-    BodySpec, ConstraintSpec, LoadSpec, MaterialSpec, SceneSpec, ShapeSpec, ToolShapeSpec,
+    AmplitudeSpec, BodySpec, ConstraintSpec, LoadSpec, MaterialSpec, SceneSpec, ShapeSpec,
+    ToolShapeSpec, ToolSpec,
 };
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
@@ -11,13 +13,17 @@ use sph_core::generate::{
     annulus_polar, tube_polar, Aabb, Difference, FnShape, Intersection, Lattice, ParticleSet,
     Shape, Union,
 };
+use sph_core::pressure::{PressureFunction, SurfacePressure};
 use sph_core::relaxation::PairwiseDamping;
+use sph_core::surface::surface_of;
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::{
-    Body, Constraint, Constraints, Dim, Loads, Probe, Solver, TimeFunction, WendlandC2, D2, D3,
+    Amplitude, Body, Constraint, Constraints, Dim, Loads, Probe, Solver, TimeFunction, D2, D3,
 };
 use sph_driver::{drive, DriverError, RunOptions, RunRecord, Schedule};
-use sph_materials::{ElasticConstants, Material, MaterialKind, MaterialModel};
+use sph_materials::{
+    DeviatorDimension, ElasticConstants, Material, MaterialKind, MaterialModel, MooneyRivlinLike,
+};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
@@ -36,10 +42,34 @@ pub struct SceneError {
     pub key: String,
     /// What is wrong and what is allowed.
     pub message: String,
+    /// The override that gave the value, when one did (`--set material.nu=0.7`).
+    pub set_by: Option<String>,
+}
+
+impl SceneError {
+    pub(crate) fn new(
+        file: &str,
+        line: Option<usize>,
+        key: &str,
+        message: impl Into<String>,
+    ) -> Self {
+        Self {
+            file: file.into(),
+            line,
+            key: key.into(),
+            message: message.into(),
+            set_by: None,
+        }
+    }
 }
 
 impl std::fmt::Display for SceneError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let by = self
+            .set_by
+            .as_ref()
+            .map(|o| format!(" (from {o})"))
+            .unwrap_or_default();
         // A file name with a newline or other control character is shown escaped: an error
         // stays one line.
         let file = if self.file.chars().any(char::is_control) {
@@ -48,8 +78,8 @@ impl std::fmt::Display for SceneError {
             self.file.clone()
         };
         match self.line {
-            Some(l) => write!(f, "{file}:{l}: {}: {}", self.key, self.message),
-            None => write!(f, "{file}: {}: {}", self.key, self.message),
+            Some(l) => write!(f, "{file}:{l}: {}{by}: {}", self.key, self.message),
+            None => write!(f, "{file}: {}{by}: {}", self.key, self.message),
         }
     }
 }
@@ -60,10 +90,13 @@ impl std::error::Error for SceneError {}
 #[derive(Clone, Debug)]
 pub struct Scene {
     spec: SceneSpec,
-    text: String,
+    /// The file's text, the text after overrides and parameters, and where each part of the
+    /// latter came from.
+    source: Resolved,
     file: String,
     dir: PathBuf,
     name: String,
+    default_name: String,
 }
 
 /// Where a key sits: the span of its table and the key name inside it.
@@ -78,38 +111,61 @@ impl Scene {
     /// # Errors
     /// The file cannot be read, or it is not a valid scene (unknown keys, wrong types).
     pub fn from_file(path: impl AsRef<Path>) -> Result<Self, SceneError> {
+        Self::from_file_with(path, &[])
+    }
+
+    /// [`Scene::from_file`] with overrides (see [`Scene::parse_with`]).
+    ///
+    /// # Errors
+    /// As [`Scene::from_file`] and [`Scene::parse_with`].
+    pub fn from_file_with(
+        path: impl AsRef<Path>,
+        overrides: &[Override],
+    ) -> Result<Self, SceneError> {
         let path = path.as_ref();
         let file = path.display().to_string();
-        let text = sph_output::input::read_text_input(path).map_err(|e| SceneError {
-            file: file.clone(),
-            line: None,
-            key: "file".into(),
-            message: e.reason,
-        })?;
+        let text = sph_output::input::read_text_input(path)
+            .map_err(|e| SceneError::new(&file, None, "file", e.reason))?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let stem = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "scene".into());
-        Self::parse(&text, &file, &dir, &stem)
+        Self::parse_with(&text, &file, &dir, &stem, overrides)
     }
 
     /// Parses a scene from `text`; `file` names it in errors, `dir` resolves particle files,
-    /// `default_name` is the name when the scene gives none.
+    /// `default_name` is the name when the scene gives none. The `[parameters]` are resolved
+    /// into the values that use them (`${…}`).
     ///
     /// # Errors
-    /// Malformed TOML, unknown keys or wrong types, with the line.
+    /// Malformed TOML, unknown keys or wrong types, a bad parameter or `${…}`, with the line.
     pub fn parse(
         text: &str,
         file: &str,
         dir: &Path,
         default_name: &str,
     ) -> Result<Self, SceneError> {
-        let spec: SceneSpec = toml::from_str(text).map_err(|e| SceneError {
-            file: file.into(),
-            line: e.span().map(|s| line_of(text, s.start)),
-            key: "scene".into(),
-            message: e.message().trim().to_string(),
+        Self::parse_with(text, file, dir, default_name, &[])
+    }
+
+    /// [`Scene::parse`] with `overrides` applied first (`--set KEY=VALUE` of the command:
+    /// a dotted path into the file, `body.NAME.KEY` or `body[INDEX].KEY` for one entry of a
+    /// list, or the name of a parameter).
+    ///
+    /// # Errors
+    /// As [`Scene::parse`], and an override that names nothing the file can hold.
+    pub fn parse_with(
+        text: &str,
+        file: &str,
+        dir: &Path,
+        default_name: &str,
+        overrides: &[Override],
+    ) -> Result<Self, SceneError> {
+        let source = resolve(text, file, overrides)?;
+        let spec: SceneSpec = toml::from_str(&source.text).map_err(|e| {
+            let offset = e.span().map(|s| s.start);
+            located(&source, file, offset, "scene", e.message().trim())
         })?;
         let name = spec
             .name
@@ -117,13 +173,64 @@ impl Scene {
             .unwrap_or_else(|| default_name.to_string());
         let scene = Self {
             spec,
-            text: text.into(),
+            source,
             file: file.into(),
             dir: dir.into(),
             name,
+            default_name: default_name.into(),
         };
         scene.check_names()?;
         Ok(scene)
+    }
+
+    /// The scene with one more override, `key = value` (see [`Scene::parse_with`]): what
+    /// `sph run scene.toml --set key=value` does.
+    ///
+    /// ```
+    /// # use sph_scene::Scene;
+    /// # let text = "dimension = 2\nmethod = \"tl-hf\"\nend_time = 1e-3\n[parameters]\nH = 0.01\n\
+    /// # [material]\ndensity = 1e3\nyoungs_modulus = 1e6\nnu = 0.3\n[[body]]\nname = \"b\"\n\
+    /// # dp = \"${H / 10}\"\nshape = { box = { min = [0.0, 0.0], max = [0.1, \"${H}\"] } }\n";
+    /// let scene = Scene::parse(text, "plate.toml", ".".as_ref(), "plate")?
+    ///     .set("H", "0.02")?                // a parameter: dp and the box follow it
+    ///     .set("material.nu", "0.45")?
+    ///     .set("body.b.velocity", "[0.0, 1.0]")?
+    ///     .set("method", "ul-enog")?;
+    /// assert_eq!(scene.method(), "ul-enog");
+    /// # Ok::<(), sph_scene::SceneError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Scene::parse_with`].
+    pub fn set(self, key: &str, value: &str) -> Result<Self, SceneError> {
+        let mut overrides = self.source.overrides.clone();
+        overrides.push(Override {
+            key: key.into(),
+            value: value.into(),
+        });
+        Self::parse_with(
+            &self.source.original,
+            &self.file,
+            &self.dir,
+            &self.default_name,
+            &overrides,
+        )
+    }
+
+    /// The overrides applied ([`Scene::set`], `--set`).
+    pub fn overrides(&self) -> &[Override] {
+        &self.source.overrides
+    }
+
+    /// The parameters with their values (overrides applied), in the file's order.
+    pub fn parameters(&self) -> &[(String, toml::Value)] {
+        &self.source.parameters
+    }
+
+    /// The text the scene is built from: the file's, with the overrides and the parameters'
+    /// values in place.
+    pub fn resolved_text(&self) -> &str {
+        &self.source.text
     }
 
     /// The scene's name.
@@ -154,24 +261,20 @@ impl Scene {
     }
 
     fn error(&self, span: Range<usize>, key: &str, message: impl Into<String>) -> SceneError {
-        SceneError {
-            file: self.file.clone(),
-            line: Some(line_of(&self.text, span.start)),
-            key: key.into(),
-            message: message.into(),
-        }
+        located(&self.source, &self.file, Some(span.start), key, message)
     }
 
     /// An error at `key` inside the table spanning `at.span` (the key's own line when found).
     fn error_in(&self, at: &At<'_>, path: &str, message: impl Into<String>) -> SceneError {
-        let line = key_line(&self.text, &at.span, at.key)
-            .unwrap_or_else(|| line_of(&self.text, at.span.start));
-        SceneError {
-            file: self.file.clone(),
-            line: Some(line),
-            key: path.into(),
-            message: message.into(),
-        }
+        let offset = key_line(&self.source.text, &at.span, at.key).unwrap_or(at.span.start);
+        located(&self.source, &self.file, Some(offset), path, message)
+    }
+
+    /// An error at the first line anywhere that sets `key` (its last part), if any.
+    fn error_at_key(&self, key: &str, path: &str, message: impl Into<String>) -> SceneError {
+        let last = key.rsplit('.').next().unwrap_or(key);
+        let offset = find_key_line(&self.source.text, last);
+        located(&self.source, &self.file, offset, path, message)
     }
 
     fn run_in<D: SceneDim>(
@@ -199,17 +302,18 @@ impl Scene {
         let (constants, law) = self.material(&spec.material)?;
         // Bodies: one particle set, each body a range of it.
         if spec.bodies.is_empty() {
-            return Err(SceneError {
-                file: self.file.clone(),
-                line: None,
-                key: "body".into(),
-                message: "a scene needs at least one [[body]]".into(),
-            });
+            return Err(SceneError::new(
+                &self.file,
+                None,
+                "body",
+                "a scene needs at least one [[body]]",
+            ));
         }
         let mut set = ParticleSet::<D>::new();
         let mut ranges: Vec<(String, Range<usize>)> = Vec::new();
         let mut velocities = Vec::new();
         let mut dp = f64::INFINITY;
+        let mut dps = Vec::new();
         for (k, b) in spec.bodies.iter().enumerate() {
             let (part, v) = self.body::<D>(k, b)?;
             self.check_body_size(k, b, &part)?;
@@ -219,37 +323,37 @@ impl Scene {
             velocities.extend(std::iter::repeat_n(v, r.len()));
             ranges.push((b.get_ref().name.clone(), r));
             dp = dp.min(b.get_ref().dp);
+            dps.push(b.get_ref().dp);
         }
         let n = set.len();
         let body_of: Vec<u32> = (0..n)
             .map(|i| ranges.iter().position(|(_, r)| r.contains(&i)).unwrap_or(0) as u32)
             .collect();
         let constraints = self.constraints::<D>(&set, &ranges)?;
-        let loads = self.loads::<D>(&set, &ranges)?;
-        let probe_kernel = WendlandC2::<D>::from_spacing(dp, 1.3)
-            .map_err(|e| self.core(spec.bodies[0].span(), "body[0].dp", e))?;
-        let mut probes = Vec::new();
-        for (k, p) in spec.probes.iter().enumerate() {
-            let at = At {
-                span: p.span(),
-                key: "at",
-            };
-            let x = self.vector::<D>(&at, &format!("probe[{k}].at"), &p.get_ref().at)?;
-            let probe = Probe::point(
-                &p.get_ref().name,
-                x,
-                set.positions(),
-                set.volumes(),
-                &probe_kernel,
-            )
-            .map_err(|e| self.error_in(&at, &format!("probe[{k}].at"), e.to_string()))?;
-            probes.push(probe);
-        }
-        let probe_interval = spec.output.probe_interval.unwrap_or(0.0);
+        let (loads, pressures) = self.loads::<D>(&set, &ranges, &dps)?;
         let mut body = Body::from_set(set, dp).with_velocities(velocities);
         if body.velocities.iter().all(|&v| v == D::zero()) {
             body.velocities.clear();
         }
+        let mut probes = Vec::new();
+        for (k, p) in spec.probes.iter().enumerate() {
+            let at = |key| At {
+                span: p.span(),
+                key,
+            };
+            let x = self.vector::<D>(&at("at"), &format!("probe[{k}].at"), &p.get_ref().at)?;
+            let probe = Probe::at(&p.get_ref().name, x, &body)
+                .map_err(|e| self.error_in(&at("at"), &format!("probe[{k}].at"), e.to_string()))?;
+            let fields: Vec<&str> = p
+                .get_ref()
+                .fields
+                .iter()
+                .flatten()
+                .map(String::as_str)
+                .collect();
+            probes.push(probe.with_fields(&fields));
+        }
+        let probe_interval = spec.output.probe_interval.unwrap_or(0.0);
         let empty = toml::Table::new();
         let (numerics_span, numerics_table) = match &spec.numerics {
             Some(t) => (t.span(), t.get_ref()),
@@ -266,7 +370,25 @@ impl Scene {
         meta.insert("case".into(), json!(self.name));
         meta.insert("method".into(), json!(method));
         meta.insert("particles".into(), json!(n));
-        meta.insert("scene".into(), json!(self.text));
+        meta.insert("scene".into(), json!(self.source.original));
+        if !self.source.overrides.is_empty() {
+            let set: Vec<String> = self
+                .source
+                .overrides
+                .iter()
+                .map(|o| format!("{}={}", o.key, o.value))
+                .collect();
+            meta.insert("overrides".into(), json!(set));
+        }
+        if !self.source.parameters.is_empty() {
+            let p: Map<String, Json> = self
+                .source
+                .parameters
+                .iter()
+                .map(|(k, v)| (k.clone(), serde_json::to_value(v).unwrap_or(Json::Null)))
+                .collect();
+            meta.insert("parameters".into(), Json::Object(p));
+        }
         meta.insert("crate_version".into(), json!(env!("CARGO_PKG_VERSION")));
         let fields = spec.output.fields.clone();
         let run =
@@ -281,6 +403,34 @@ impl Scene {
                         .map(|f| f.to_string())
                         .collect(),
                 };
+                for (k, p) in spec.probes.iter().enumerate() {
+                    let fields = p.get_ref().fields.iter().flatten();
+                    if let Some(bad) = fields.clone().find(|f| !offered.contains(&f.as_str())) {
+                        return Err(self.error_in(
+                            &At {
+                                span: p.span(),
+                                key: "fields",
+                            },
+                            &format!("probe[{k}].fields"),
+                            format!("`{bad}`: {method} offers {}", offered.join(", ")),
+                        ));
+                    }
+                    let list: Vec<&String> = fields.collect();
+                    if let Some(twice) = list
+                        .iter()
+                        .enumerate()
+                        .find(|(i, f)| list[..*i].contains(f))
+                    {
+                        return Err(self.error_in(
+                            &At {
+                                span: p.span(),
+                                key: "fields",
+                            },
+                            &format!("probe[{k}].fields"),
+                            format!("`{}` is listed twice", twice.1),
+                        ));
+                    }
+                }
                 let names: Vec<&str> = names.iter().map(String::as_str).collect();
                 drive(solver, meta.clone(), schedule, &names, options, |_, _| {
                     Map::new()
@@ -342,12 +492,7 @@ impl Scene {
                     pair_storage,
                     ..d
                 };
-                let mut known = vec!["h_over_dp", "cfl", "damping", "dt_stretch", "pair_data"];
-                known.extend(match method {
-                    "tl-hf" => Some("zeta"),
-                    "tl-gm" => Some("alpha"),
-                    _ => None,
-                });
+                let known = numerics_keys(method).expect("a method");
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
@@ -358,8 +503,13 @@ impl Scene {
                 } else {
                     sph_tl::TlSolver::new(body, law, shear, params)
                 };
-                let mut s = built
-                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?
+                let mut s = built.map_err(|e| self.solver_error(e, &numerics_span, &known))?;
+                for sp in pressures {
+                    s = s
+                        .with_surface_pressure(sp)
+                        .map_err(|e| self.error_at_key("pressure", "load", e.to_string()))?;
+                }
+                let mut s = s
                     .with_constraints(constraints)
                     .with_loads(loads)
                     .with_tools(tools)
@@ -389,6 +539,25 @@ impl Scene {
             }
             Family::Ul => {
                 no_tools(method)?;
+                if !pressures.is_empty() {
+                    let k = spec
+                        .loads
+                        .iter()
+                        .position(|l| l.get_ref().kind == "pressure")
+                        .unwrap_or(0);
+                    return Err(self.error_in(
+                        &At {
+                            span: spec.loads[k].span(),
+                            key: "type",
+                        },
+                        &format!("load[{k}].type"),
+                        format!(
+                            "a pressure load follows the surface through the deformation \
+                             gradient, which {method} does not carry; tl, tl-hf, tl-gm and mps \
+                             apply it"
+                        ),
+                    ));
+                }
                 let shear = match method {
                     "ul-og" => sph_ul::Shear::Original,
                     "ul-oas" => sph_ul::Shear::ArtificialStress {
@@ -442,25 +611,13 @@ impl Scene {
                         .bool("corrected_gradient", d.corrected_velocity_gradient),
                     refresh_kernel_data: keys.bool("refresh_kernel_data", d.refresh_kernel_data),
                     allow_isolated: keys.bool("allow_fracture", d.allow_isolated),
+                    energy_budget: keys.bool("energy_budget", d.energy_budget),
+                    contact_scale: keys.f64("contact_scale", d.contact_scale),
                     // As in the cases: ENOG's τ (output only) is integrated when written.
                     track_shear_stress: options.output.is_some(),
                     ..d
                 };
-                let mut known = vec![
-                    "h_over_dp",
-                    "cfl_acoustic",
-                    "cfl_advection",
-                    "stepping",
-                    "riemann",
-                    "corrected_gradient",
-                    "refresh_kernel_data",
-                    "allow_fracture",
-                ];
-                known.extend_from_slice(match method {
-                    "ul-oas" => &["epsilon", "n"][..],
-                    "ul-enog" => &["zeta"][..],
-                    _ => &[][..],
-                });
+                let known = numerics_keys(method).expect("a method");
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let mut s = sph_ul::UlSolver::new(body, constants, shear, params)
@@ -496,20 +653,40 @@ impl Scene {
                         ))
                     }
                 };
+                let fit = match keys.text("fit", "linear").as_str() {
+                    "linear" => sph_mps::wls::Fit::Linear,
+                    "quadratic" => sph_mps::wls::Fit::Quadratic,
+                    other => {
+                        return Err(self.error_in(
+                            &At {
+                                span: numerics_span.clone(),
+                                key: "fit",
+                            },
+                            "numerics.fit",
+                            format!("`{other}`: allowed values are linear, quadratic"),
+                        ))
+                    }
+                };
                 let params = sph_mps::MpsParams {
                     re_over_l0: keys.f64("re_over_l0", d.re_over_l0),
                     courant: keys.f64("courant", d.courant),
                     damping: keys.f64("damping", d.damping),
+                    stabilisation: keys.f64("stabilisation", d.stabilisation),
                     integrator,
+                    fit,
                     ..d
                 };
-                let known = ["re_over_l0", "courant", "damping", "integrator"];
+                let known = numerics_keys(method).expect("a method");
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let mut s = sph_mps::MpsSolver::new(body, law, params)
-                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?
-                    .with_constraints(constraints)
-                    .with_loads(loads);
+                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
+                for sp in pressures {
+                    s = s
+                        .with_surface_pressure(sp)
+                        .map_err(|e| self.error_at_key("pressure", "load", e.to_string()))?;
+                }
+                let mut s = s.with_constraints(constraints).with_loads(loads);
                 if multi {
                     s = s
                         .with_contact(sph_mps::Contact::between(body_of))
@@ -534,19 +711,12 @@ impl Scene {
 
     /// A driver refusal, pointing at the output key or the end time it names.
     fn driver(&self, e: DriverError) -> SceneError {
-        let (key, line) = match &e {
+        match &e {
             DriverError::InvalidValue { key, .. } => {
-                let line = find_key_line(&self.text, key);
                 let prefix = if key == "end_time" { "" } else { "output." };
-                (format!("{prefix}{key}"), line)
+                self.error_at_key(key, &format!("{prefix}{key}"), e.to_string())
             }
-            _ => ("run".into(), None),
-        };
-        SceneError {
-            file: self.file.clone(),
-            line,
-            key,
-            message: e.to_string(),
+            _ => SceneError::new(&self.file, None, "run", e.to_string()),
         }
     }
 }
@@ -557,6 +727,41 @@ enum Family {
     Tl,
     Ul,
     Mps,
+}
+
+/// The `[numerics]` keys of `method` (`None` for an unknown method): what a scene file may set
+/// for it (docs/user-guide.md's reference lists them with their defaults).
+pub fn numerics_keys(method: &str) -> Option<Vec<&'static str>> {
+    let mut keys = match family_of(method)? {
+        Family::Tl => vec!["h_over_dp", "cfl", "damping", "dt_stretch", "pair_data"],
+        Family::Ul => vec![
+            "h_over_dp",
+            "cfl_acoustic",
+            "cfl_advection",
+            "stepping",
+            "riemann",
+            "corrected_gradient",
+            "refresh_kernel_data",
+            "allow_fracture",
+            "energy_budget",
+            "contact_scale",
+        ],
+        Family::Mps => vec![
+            "re_over_l0",
+            "courant",
+            "damping",
+            "integrator",
+            "stabilisation",
+            "fit",
+        ],
+    };
+    keys.extend_from_slice(match method {
+        "tl-hf" | "ul-enog" => &["zeta"][..],
+        "tl-gm" => &["alpha"][..],
+        "ul-oas" => &["epsilon", "n"][..],
+        _ => &[][..],
+    });
+    Some(keys)
 }
 
 fn family_of(method: &str) -> Option<Family> {
@@ -715,24 +920,42 @@ fn sphere_bounds<D: Dim>(c: D::Vector, r: f64) -> (D::Vector, D::Vector) {
     (c - d, c + d)
 }
 
-/// The first line anywhere in the file that sets `key`.
+/// The start of the first line anywhere in the text that sets `key`.
 fn find_key_line(text: &str, key: &str) -> Option<usize> {
-    text.lines()
-        .position(|l| {
-            l.trim_start()
-                .strip_prefix(key)
-                .is_some_and(|r| r.trim_start().starts_with('='))
-        })
-        .map(|k| k + 1)
+    let mut offset = 0;
+    for l in text.split_inclusive('\n') {
+        if l.trim_start()
+            .strip_prefix(key)
+            .is_some_and(|r| r.trim_start().starts_with('='))
+        {
+            return Some(offset);
+        }
+        offset += l.len();
+    }
+    None
 }
 
-/// 1-based line of byte `offset`.
-fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())].matches('\n').count() + 1
+/// A scene error at byte `offset` of the resolved text: the file's line there, and the
+/// override that wrote it, if one did.
+fn located(
+    source: &Resolved,
+    file: &str,
+    offset: Option<usize>,
+    key: &str,
+    message: impl Into<String>,
+) -> SceneError {
+    let (line, by) = match offset {
+        Some(o) => source.origin(o),
+        None => (None, None),
+    };
+    SceneError {
+        set_by: by.map(|o| o.to_string()),
+        ..SceneError::new(file, line, key, message)
+    }
 }
 
-/// The line of `key = …` in the table starting at `span` (up to the next table header; a span
-/// of an array-of-tables entry may cover only its header), if written there.
+/// The start of the line of `key = …` in the table starting at `span` (up to the next table
+/// header; a span of an array-of-tables entry may cover only its header), if written there.
 fn key_line(text: &str, span: &Range<usize>, key: &str) -> Option<usize> {
     if key.is_empty() {
         return None;
@@ -746,12 +969,12 @@ fn key_line(text: &str, span: &Range<usize>, key: &str) -> Option<usize> {
         }
         if let Some(rest) = t.strip_prefix(key) {
             if rest.trim_start().starts_with('=') {
-                return Some(line_of(text, offset));
+                return Some(offset);
             }
         }
         // Inline tables: `shape = { box = … }` on one line.
         if line.contains(&format!(" {key} =")) || line.contains(&format!("{{{key} =")) {
-            return Some(line_of(text, offset));
+            return Some(offset);
         }
         offset += line.len();
     }

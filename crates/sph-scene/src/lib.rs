@@ -53,18 +53,15 @@
 //! at = [0.0, 0.01]
 //! ```
 //!
-//! Shapes: `box {min, max}`, `ball {centre, radius}`, `shell {centre, inner, outer}` (annulus in
-//! 2D), `cylinder {base, axis, radius, length, inner}` (3D), `union [..]`, `intersection [..]`,
-//! `difference {base, cut}`. Tool shapes: `box`, `ball`, `half-space {point, normal}`. Loads:
-//! `type = "gravity"` with `acceleration` (and an optional `region`), or `type = "point"` with
-//! `force` at the particle nearest `at`.
-//!
-//! Numerics keys — TL: `h_over_dp`, `cfl`, `zeta`, `alpha`, `damping`, `dt_stretch`,
-//! `pair_data`;
-//! UL: `h_over_dp`, `cfl_acoustic`, `cfl_advection`, `stepping`, `riemann`, `zeta`,
-//! `epsilon`, `n`, `corrected_gradient`, `refresh_kernel_data`, `allow_fracture`;
-//! MPS: `re_over_l0`, `courant`, `damping`, `integrator`. Every value defaults to the library's
-//! default (`TlParams::default()` etc.).
+//! Every key, with its type, default, unit and the methods that honour it, is in
+//! [`reference::keys`] (rendered into docs/user-guide.md, "Scene file reference"; a test keeps
+//! the two and the types of [`spec`] in step). Beyond the example above: a `[parameters]`
+//! table whose names `${…}` in any value uses (`dp = "${H / 20}"`, arithmetic included);
+//! `amplitude` curves (ramp, smooth step, table, sine) on constraint velocities, gravity, point
+//! loads, pressures and tool velocities; `type = "pressure"` loads on the surface particles of
+//! a region; tools along a `path` or a `velocity` curve, turning about an axis (`rotation`);
+//! every law's constants; probes of any output field. [`Scene::set`] (the command's `--set`)
+//! overrides any key by its dotted path, or a parameter.
 //!
 //! Names (of the scene, which names the results file `<name>-<method>.h5`, and of bodies,
 //! constraints, tools and probes, which name HDF5 groups) are names, not paths: 1 to 128 bytes
@@ -72,10 +69,18 @@
 //!
 //! Methods: a TL method runs one body (rigid parts are tools); UL and MPS run any number of
 //! bodies, which meet through the method's body–body contact. A key a method cannot honour is
-//! an error. Errors name the file, the line and the key.
+//! an error. Errors name the file, the line and the key, or the override that gave the value.
 #![deny(missing_docs)]
 
+/// glam, whose f64 vectors and matrices (`DVec2`, `DVec3`, `DMat2`, `DMat3`) every API here
+/// takes: `use sph_scene::glam::DVec2;` needs no glam dependency of your own.
+pub use glam;
+
 mod build;
+mod expr;
+pub mod reference;
+mod resolve;
 pub mod spec;
 
-pub use build::{Scene, SceneError};
+pub use build::{numerics_keys, Scene, SceneError};
+pub use resolve::Override;

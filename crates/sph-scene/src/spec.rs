@@ -40,6 +40,8 @@ pub struct SceneSpec {
     pub tools: Vec<Spanned<ToolSpec>>,
     /// Quasi-static relaxation (TL methods).
     pub relaxation: Option<Spanned<RelaxationSpec>>,
+    /// Named values that `${…}` in the other values uses (resolved before the rest is read).
+    pub parameters: Option<toml::Table>,
 }
 
 /// The material: a law and its constants (Young's modulus and Poisson's ratio, or bulk and
@@ -61,6 +63,19 @@ pub struct MaterialSpec {
     pub bulk_modulus: Option<f64>,
     /// Shear modulus G (Pa).
     pub shear_modulus: Option<f64>,
+    /// `mooney-rivlin`: `c₂/(c₁ + c₂)` (default the MPS paper's ≈ 0.0741), with E and ν or K
+    /// and G.
+    pub c2_fraction: Option<f64>,
+    /// `mooney-rivlin`: `c₁` (Pa) of MPS eq. 12, with `c2` and `lambda` instead of the elastic
+    /// constants (small-strain G = c₁ + c₂, K = 2λ).
+    pub c1: Option<f64>,
+    /// `mooney-rivlin`: `c₂` (Pa).
+    pub c2: Option<f64>,
+    /// `mooney-rivlin`: `λ` (Pa).
+    pub lambda: Option<f64>,
+    /// `kirchhoff-vol-dev`: the dimension of the isochoric split, `spatial` (d = the scene's
+    /// dimension, the TL paper's; default) or `embedded-3d` (d = 3, true plane strain in 2D).
+    pub deviator: Option<String>,
 }
 
 fn default_law() -> String {
@@ -183,13 +198,16 @@ pub struct ConstraintSpec {
     pub velocity: Option<Vec<f64>>,
     /// Prescribed components (`components`).
     pub components: Option<Vec<bool>>,
+    /// The amplitude curve that scales `velocity` (default: constant).
+    pub amplitude: Option<AmplitudeSpec>,
 }
 
 /// A load.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadSpec {
-    /// `gravity` (a body acceleration) or `point` (a force on the particle nearest `at`).
+    /// `gravity` (a body acceleration), `point` (a force on the particle nearest `at`) or
+    /// `pressure` (a follower pressure on the surface particles of `region`).
     #[serde(rename = "type")]
     pub kind: String,
     /// Acceleration (`gravity`).
@@ -198,8 +216,60 @@ pub struct LoadSpec {
     pub force: Option<Vec<f64>>,
     /// Where the point force acts (`point`).
     pub at: Option<Vec<f64>>,
-    /// Where gravity acts (default: everywhere).
+    /// Where gravity acts (default: everywhere); the surface the pressure loads.
     pub region: Option<ShapeSpec>,
+    /// The body the pressure loads (default: every body).
+    pub body: Option<String>,
+    /// Pressure (Pa; positive pushes into the body) (`pressure`).
+    pub pressure: Option<f64>,
+    /// The loaded area (m²; m per unit depth in 2D) the particles share equally (default: each
+    /// particle its volume over `dp`) (`pressure`).
+    pub area: Option<f64>,
+    /// One outward normal for every loaded particle (default: each particle's own, estimated
+    /// from its neighbours) (`pressure`).
+    pub normal: Option<Vec<f64>>,
+    /// The amplitude curve that scales the acceleration, force or pressure (default:
+    /// constant).
+    pub amplitude: Option<AmplitudeSpec>,
+}
+
+/// An amplitude curve `a(t)` (dimensionless) that scales a prescribed value. In TOML a one-key
+/// table: `{ smooth-step = { duration = 1e-3 } }`, `{ table = [[0.0, 0.0], [1e-3, 1.0]] }`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+pub enum AmplitudeSpec {
+    /// Linear from 0 at `start` to 1 at `start + duration`, then 1.
+    Ramp {
+        /// When it begins (s, default 0).
+        #[serde(default)]
+        start: f64,
+        /// How long it takes (s).
+        duration: f64,
+    },
+    /// From 0 to 1 along `ξ³(10 − 15ξ + 6ξ²)`: no jump in value, slope or curvature.
+    SmoothStep {
+        /// When it begins (s, default 0).
+        #[serde(default)]
+        start: f64,
+        /// How long it takes (s).
+        duration: f64,
+    },
+    /// Piecewise linear through `[time, value]` points, held beyond the ends.
+    Table(Vec<Vec<f64>>),
+    /// `offset + amplitude · sin(2π frequency · t + phase)`.
+    Sine {
+        /// Hz.
+        frequency: f64,
+        /// Default 1.
+        #[serde(default = "one")]
+        amplitude: f64,
+        /// rad, default 0.
+        #[serde(default)]
+        phase: f64,
+        /// Default 0.
+        #[serde(default)]
+        offset: f64,
+    },
 }
 
 /// A probe on a material point.
@@ -210,6 +280,8 @@ pub struct ProbeSpec {
     pub name: String,
     /// Reference position.
     pub at: Vec<f64>,
+    /// Output fields sampled at the probe at every monitor sample (`/probes/<name>/fields`).
+    pub fields: Option<Vec<String>>,
 }
 
 /// A rigid tool.
@@ -230,6 +302,28 @@ pub struct ToolSpec {
     pub ramp_time: f64,
     /// Travel after which it stops (m, default: never).
     pub travel: Option<f64>,
+    /// A piecewise-linear path instead: `[time, ux, uy(, uz)]` waypoints of the displacement.
+    pub path: Option<Vec<Vec<f64>>>,
+    /// A velocity curve instead: this velocity (m/s) times `amplitude`.
+    pub velocity: Option<Vec<f64>>,
+    /// The amplitude curve of `velocity` (default: constant).
+    pub amplitude: Option<AmplitudeSpec>,
+    /// A rotation about an axis through a centre that moves with the tool.
+    pub rotation: Option<RotationSpec>,
+}
+
+/// A tool's rotation: angle `angular_velocity · ∫ amplitude`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotationSpec {
+    /// A point of the axis, in the tool's initial position.
+    pub centre: Vec<f64>,
+    /// The axis (3D; right-handed; in 2D the z axis, which may be given as `[0, 0, ±1]`).
+    pub axis: Option<Vec<f64>>,
+    /// Angular velocity (rad/s).
+    pub angular_velocity: f64,
+    /// Its amplitude curve (default: constant).
+    pub amplitude: Option<AmplitudeSpec>,
 }
 
 /// A tool's shape.

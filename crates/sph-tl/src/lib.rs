@@ -38,6 +38,10 @@
 //! ```
 #![deny(missing_docs)]
 
+/// glam, whose f64 vectors and matrices (`DVec2`, `DVec3`, `DMat2`, `DMat3`) every API here
+/// takes: `use sph_tl::glam::DVec2;` needs no glam dependency of your own.
+pub use glam;
+
 pub mod damping;
 pub mod ganzenmuller;
 pub mod hourglass_free;

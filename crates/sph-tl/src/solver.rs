@@ -11,6 +11,7 @@ use sph_core::disorder::{disorder_indicator, ReferenceWeights};
 use sph_core::distributed::OverRanks;
 use sph_core::error::{check_closed_range, check_non_negative, check_open_range, check_positive};
 use sph_core::parallel::{gather, gather2, max_over};
+use sph_core::pressure::ResolvedPressure;
 use sph_core::relaxation::PairwiseDamper;
 use sph_core::scene::{ProbeSchedule, Series};
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
@@ -198,6 +199,8 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     constraints: Constraints<D>,
     free: Vec<bool>,
     loads: Loads<D>,
+    /// Follower surface pressures (Nanson's formula with this method's `F`).
+    pressures: Vec<ResolvedPressure<D>>,
     probes: Vec<Probe<D>>,
     schedule: ProbeSchedule,
     /// Rigid tools in frictionless contact with the body, their reaction meters and series.
@@ -518,6 +521,15 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         if !self.loads.is_empty() {
             self.loads
                 .add_accelerations(self.time + half, &self.masses, &mut self.accelerations);
+        }
+        let masses = &self.masses;
+        for sp in &self.pressures {
+            sp.add_accelerations(
+                self.time + half,
+                &self.deformation,
+                |i| 1.0 / masses[i],
+                &mut self.accelerations,
+            );
         }
         if !self.grip_meters.is_empty() {
             let reactions = self

@@ -90,7 +90,7 @@ where
     // 10 % of the height at 0.05 m/s (wave transit ≈ height/55 m/s ≪ the loading time).
     let travel = 0.1 * height;
     let motion = ToolMotion::new(down, 0.05, 0.2 * travel / 0.05, travel).unwrap();
-    let platen = RigidTool::new("platen", ToolShape::cuboid(lo, hi).unwrap(), motion);
+    let platen = RigidTool::new("platen", ToolShape::cuboid(lo, hi).unwrap(), motion.clone());
     let end = motion.arrival_time() * 1.5;
     let mut s = solver::<D>(&set, shear)
         .with_constraints(constraints)

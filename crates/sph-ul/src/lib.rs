@@ -59,6 +59,10 @@
 //! ```
 #![deny(missing_docs)]
 
+/// glam, whose f64 vectors and matrices (`DVec2`, `DVec3`, `DMat2`, `DMat3`) every API here
+/// takes: `use sph_ul::glam::DVec2;` needs no glam dependency of your own.
+pub use glam;
+
 pub mod artificial_stress;
 pub mod contact;
 pub mod energy;

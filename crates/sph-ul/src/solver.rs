@@ -230,7 +230,10 @@ impl<D: Dim> UlSolver<D> {
         let dp = self.kernel.h() / self.params.h_over_dp;
         let contact = Contact::new(body, self.kernel.w(dp), self.params.contact_scale, self.c0);
         self.series = (0..contact.bodies)
-            .map(|b| Series::new(&format!("contact_force_{b}"), &AXES[..D::D]))
+            .map(|b| {
+                Series::new(&format!("contact_force_{b}"), &AXES[..D::D])
+                    .with_description(sph_core::conventions::CONTACT_SERIES)
+            })
             .collect();
         self.contact = Some(contact);
         self.rebuild()?;
@@ -267,7 +270,7 @@ impl<D: Dim> UlSolver<D> {
         }
         self.probes = probes;
         for s in &mut self.series {
-            *s = Series::new(&s.name, &AXES[..D::D]);
+            *s = Series::new(&s.name, &AXES[..D::D]).with_description(&s.description);
         }
         if self.schedule.due(self.time) {
             self.record_probes();

@@ -167,7 +167,7 @@ impl Case for PunchingStrip2d {
             corner,
         )?;
         let tools = vec![
-            RigidTool::new("punch_top", top, down),
+            RigidTool::new("punch_top", top, down.clone()),
             RigidTool::new("punch_bottom", bottom, up),
         ];
         let end_time = down.arrival_time() + hold;

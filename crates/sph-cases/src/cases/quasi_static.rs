@@ -61,10 +61,8 @@ pub fn grip_motion<D: Dim>(
     travel: f64,
 ) -> Result<(TimeFunction<D>, f64), sph_core::Error> {
     let motion = ToolMotion::<D>::new(direction, speed, ramp, travel)?;
-    Ok((
-        TimeFunction::new(move |t| motion.velocity(t)),
-        motion.arrival_time(),
-    ))
+    let arrival = motion.arrival_time();
+    Ok((TimeFunction::new(move |t| motion.velocity(t)), arrival))
 }
 
 /// The relaxation damping for a body of size `length`, or `None` when `relaxation` is 0.

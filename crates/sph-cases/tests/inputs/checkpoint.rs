@@ -4,7 +4,7 @@
 /// Damaged checkpoints for `sph resume`: (what, the damage, the expected words). Damages:
 /// `missing`, `half` (the first half), `header` (the first 20 bytes), `flip` (one bit in the
 /// middle), `reserved` (one bit of the header's 4 reserved bytes), `version` (format version
-/// 2), `foreign` (a TOML file), `other-run` (the run description of another resolution,
+/// 99), `foreign` (a TOML file), `other-run` (the run description of another resolution,
 /// re-checksummed).
 pub const BAD_CHECKPOINTS: &[(&str, &str, &str)] = &[
     ("a missing checkpoint", "missing", "cannot read it"),
@@ -19,7 +19,7 @@ pub const BAD_CHECKPOINTS: &[(&str, &str, &str)] = &[
     (
         "another format version",
         "version",
-        "format version 2; this sph",
+        "format version 99; this sph",
     ),
     (
         "a file that is no checkpoint",

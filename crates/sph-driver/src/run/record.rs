@@ -20,6 +20,10 @@ pub struct MonitorSample {
     /// Connected pieces of the particles' neighbour graph (from the field `fragment`), for
     /// methods that label them: a body that breaks apart adds pieces.
     pub pieces: Option<usize>,
+    /// The output fields sampled at the probes that ask for some ([`sph_core::Probe::fields`]):
+    /// for each such probe in order, each of its fields' components (1, 3 or 9), flattened.
+    #[serde(skip)]
+    pub probe_fields: Vec<f64>,
 }
 
 /// What a run did.
@@ -45,6 +49,9 @@ pub struct RunRecord {
     pub estimate: Option<crate::guard::Estimate>,
     /// The results file, if one was written.
     pub file: Option<PathBuf>,
+    /// The `.pvd` collection of the per-frame VTU files, if they were written
+    /// ([`crate::RunOptions::vtu`]).
+    pub collection: Option<PathBuf>,
     /// Neighbour pairs visited by the force evaluations ([`Solver::pair_visits`]).
     pub pair_visits: Option<u64>,
 }

@@ -70,14 +70,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         self.constraints.restrict(inv);
         self.loads.restrict(inv);
         for sp in &mut self.pressures {
-            let (particles, normals): (Vec<u32>, Vec<D::Vector>) = sp
-                .particles
-                .iter()
-                .zip(&sp.area_normal)
-                .filter(|(&i, _)| inv[i as usize] != sph_core::distributed::NOT_LOCAL)
-                .map(|(&i, &n)| (inv[i as usize], n))
-                .unzip();
-            (sp.particles, sp.area_normal) = (particles, normals);
+            sp.restrict(inv);
         }
         for p in &mut self.probes {
             p.remap(inv);

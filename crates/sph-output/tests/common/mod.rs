@@ -128,8 +128,13 @@ pub fn write_all_with(base: &Path, backend: Backend, compression: Compression) -
         w.write_probe(name, &t, &p, &v).unwrap();
     }
     let (t, force) = series();
-    w.write_series("punch", &t, &[("force_y", &force), ("displacement", &t)])
-        .unwrap();
+    w.write_series(
+        "punch",
+        &t,
+        &[("force_y", &force), ("displacement", &t)],
+        "a punch",
+    )
+    .unwrap();
     w.write_summary(&summary()).unwrap();
     w.finish().expect("finish")
 }

@@ -18,16 +18,11 @@ impl Scene {
     pub(super) fn check_names(&self) -> Result<(), SceneError> {
         let spec = &self.spec;
         if let Err(e) = check_name("name", &self.name) {
-            let (line, key) = match find_key_line(&self.text, "name") {
-                Some(l) if spec.name.is_some() => (Some(l), "name"),
+            return Err(if spec.name.is_some() {
+                self.error_at_key("name", "name", e.to_string())
+            } else {
                 // Named after its file.
-                _ => (None, "name (from the file name)"),
-            };
-            return Err(SceneError {
-                file: self.file.clone(),
-                line,
-                key: key.into(),
-                message: e.to_string(),
+                SceneError::new(&self.file, None, "name (from the file name)", e.to_string())
             });
         }
         let named = |kind: &str, items: Vec<(Range<usize>, Option<&str>)>| {
@@ -90,15 +85,14 @@ impl Scene {
             }
         }
         if spec.probes.len() > MAX_PROBES {
-            return Err(SceneError {
-                file: self.file.clone(),
-                line: Some(line_of(&self.text, spec.probes[MAX_PROBES].span().start)),
-                key: "probe".into(),
-                message: format!(
+            return Err(self.error(
+                spec.probes[MAX_PROBES].span(),
+                "probe",
+                format!(
                     "{} probes: at most {MAX_PROBES} (record a field instead)",
                     spec.probes.len()
                 ),
-            });
+            ));
         }
         named(
             "probe",

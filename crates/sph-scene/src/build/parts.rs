@@ -7,7 +7,8 @@ use super::*;
 pub(super) const MAX_PARTICLE_LINE: usize = 4096;
 
 impl Scene {
-    /// The material's constants and law.
+    /// The material's constants and law, with the law's own options (`c2_fraction`, or `c1`,
+    /// `c2`, `lambda`, for `mooney-rivlin`; `deviator` for `kirchhoff-vol-dev`).
     pub(super) fn material(
         &self,
         m: &Spanned<MaterialSpec>,
@@ -17,6 +18,74 @@ impl Scene {
             key,
         };
         let s = m.get_ref();
+        let kind: MaterialKind = s.law.parse().map_err(|e: sph_core::Error| {
+            self.error_in(&at("law"), "material.law", e.to_string())
+        })?;
+        // Options of another law: an error, never ignored.
+        let mooney = matches!(kind, MaterialKind::MooneyRivlin { .. });
+        for (key, given, owner) in [
+            ("c2_fraction", s.c2_fraction.is_some(), mooney),
+            ("c1", s.c1.is_some(), mooney),
+            ("c2", s.c2.is_some(), mooney),
+            ("lambda", s.lambda.is_some(), mooney),
+            (
+                "deviator",
+                s.deviator.is_some(),
+                matches!(kind, MaterialKind::KirchhoffVolDev { .. }),
+            ),
+        ] {
+            if given && !owner {
+                let law = if key == "deviator" {
+                    "kirchhoff-vol-dev"
+                } else {
+                    "mooney-rivlin"
+                };
+                return Err(self.error_in(
+                    &at(key),
+                    &format!("material.{key}"),
+                    format!("a key of law = \"{law}\", not of law = \"{}\"", s.law),
+                ));
+            }
+        }
+        let law_error = |e: sph_core::Error| {
+            let key = match &e {
+                sph_core::Error::InvalidParameter { field, .. } => field.clone(),
+                _ => "law".into(),
+            };
+            let at = At {
+                span: m.span(),
+                key: &key,
+            };
+            self.error_in(&at, &format!("material.{key}"), e.to_string())
+        };
+        if let (Some(c1), Some(c2), Some(lambda)) = (s.c1, s.c2, s.lambda) {
+            let elastic = [
+                ("youngs_modulus", s.youngs_modulus.is_some()),
+                ("nu", s.nu.is_some()),
+                ("bulk_modulus", s.bulk_modulus.is_some()),
+                ("shear_modulus", s.shear_modulus.is_some()),
+                ("c2_fraction", s.c2_fraction.is_some()),
+            ];
+            if let Some((key, _)) = elastic.iter().find(|k| k.1) {
+                return Err(self.error_in(
+                    &at(key),
+                    &format!("material.{key}"),
+                    "give c1, c2 and lambda, or the elastic constants (with c2_fraction), not both",
+                ));
+            }
+            let law = MooneyRivlinLike::new(c1, c2, lambda, s.density).map_err(law_error)?;
+            return Ok((
+                *Material::<sph_core::D2>::constants(&law),
+                MaterialModel::MooneyRivlin(law),
+            ));
+        }
+        if s.c1.is_some() || s.c2.is_some() || s.lambda.is_some() {
+            return Err(self.error_in(
+                &at("c1"),
+                "material",
+                "mooney-rivlin by its own constants needs all of c1, c2 and lambda",
+            ));
+        }
         let constants = match (s.youngs_modulus, s.nu, s.bulk_modulus, s.shear_modulus) {
             (Some(e), Some(nu), None, None) => ElasticConstants::from_youngs(e, nu, s.density),
             (None, None, Some(k), Some(g)) => ElasticConstants::from_bulk_shear(k, g, s.density),
@@ -44,12 +113,27 @@ impl Scene {
             };
             self.error_in(&at, &format!("material.{key}"), e.to_string())
         })?;
-        let kind: MaterialKind = s.law.parse().map_err(|e: sph_core::Error| {
-            self.error_in(&at("law"), "material.law", e.to_string())
-        })?;
-        let law = kind
-            .build(constants)
-            .map_err(|e| self.error_in(&at("law"), "material.law", e.to_string()))?;
+        let kind = match kind {
+            MaterialKind::MooneyRivlin { c2_fraction } => MaterialKind::MooneyRivlin {
+                c2_fraction: s.c2_fraction.unwrap_or(c2_fraction),
+            },
+            MaterialKind::KirchhoffVolDev { deviator } => MaterialKind::KirchhoffVolDev {
+                deviator: match s.deviator.as_deref() {
+                    None => deviator,
+                    Some("spatial") => DeviatorDimension::Spatial,
+                    Some("embedded-3d") => DeviatorDimension::Embedded3d,
+                    Some(other) => {
+                        return Err(self.error_in(
+                            &at("deviator"),
+                            "material.deviator",
+                            format!("`{other}`: allowed values are spatial, embedded-3d"),
+                        ))
+                    }
+                },
+            },
+            k => k,
+        };
+        let law = kind.build(constants).map_err(law_error)?;
         Ok((constants, law))
     }
 
@@ -349,6 +433,57 @@ impl Scene {
         Ok(p)
     }
 
+    /// An amplitude curve, checked.
+    pub(super) fn amplitude(
+        &self,
+        at: &At<'_>,
+        key: &str,
+        spec: Option<&AmplitudeSpec>,
+    ) -> Result<Option<Amplitude>, SceneError> {
+        let Some(spec) = spec else {
+            return Ok(None);
+        };
+        let bad = |e: sph_core::Error| self.error_in(at, key, e.to_string());
+        let a = match spec {
+            AmplitudeSpec::Ramp { start, duration } => Amplitude::ramp(*start, *duration),
+            AmplitudeSpec::SmoothStep { start, duration } => {
+                Amplitude::smooth_step(*start, *duration)
+            }
+            AmplitudeSpec::Table(points) => {
+                let mut pairs = Vec::with_capacity(points.len());
+                for (k, p) in points.iter().enumerate() {
+                    match p.as_slice() {
+                        [t, a] => pairs.push((*t, *a)),
+                        _ => {
+                            return Err(self.error_in(
+                                at,
+                                key,
+                                format!("table point {k} = {p:?}: expected [time, value]"),
+                            ))
+                        }
+                    }
+                }
+                Amplitude::table(pairs)
+            }
+            AmplitudeSpec::Sine {
+                frequency,
+                amplitude,
+                phase,
+                offset,
+            } => Amplitude::sine(*frequency, *amplitude, *phase, *offset),
+        }
+        .map_err(bad)?;
+        Ok(Some(a))
+    }
+
+    /// `v`, or `v · a(t)` with an amplitude.
+    fn scaled<D: Dim>(v: D::Vector, amplitude: Option<Amplitude>) -> TimeFunction<D> {
+        match amplitude {
+            None => TimeFunction::constant(v),
+            Some(a) => TimeFunction::scaled(v, a),
+        }
+    }
+
     pub(super) fn constraints<D: Dim>(
         &self,
         set: &ParticleSet<D>,
@@ -374,12 +509,26 @@ impl Scene {
                 let v = s.velocity.as_ref().ok_or_else(|| {
                     self.error_in(&at("type"), &key("velocity"), "this type needs a velocity")
                 })?;
-                Ok(TimeFunction::constant(self.vector::<D>(
-                    &at("velocity"),
-                    &key("velocity"),
-                    v,
-                )?))
+                let v = self.vector::<D>(&at("velocity"), &key("velocity"), v)?;
+                let a =
+                    self.amplitude(&at("amplitude"), &key("amplitude"), s.amplitude.as_ref())?;
+                Ok(Self::scaled(v, a))
             };
+            if s.kind == "fixed" {
+                for (name, given) in [
+                    ("velocity", s.velocity.is_some()),
+                    ("components", s.components.is_some()),
+                    ("amplitude", s.amplitude.is_some()),
+                ] {
+                    if given {
+                        return Err(self.error_in(
+                            &at(name),
+                            &key(name),
+                            "a fixed constraint takes no velocity, components or amplitude",
+                        ));
+                    }
+                }
+            }
             let constraint = match s.kind.as_str() {
                 "fixed" => Constraint::Fixed { particles },
                 "velocity" => Constraint::PrescribedVelocity {
@@ -424,12 +573,16 @@ impl Scene {
         Ok(out)
     }
 
+    /// The body accelerations and point forces, and the surface pressures (which only a
+    /// method with a deformation gradient applies).
     pub(super) fn loads<D: Dim>(
         &self,
         set: &ParticleSet<D>,
         ranges: &[(String, Range<usize>)],
-    ) -> Result<Loads<D>, SceneError> {
+        dps: &[f64],
+    ) -> Result<(Loads<D>, Vec<SurfacePressure<D>>), SceneError> {
         let mut out = Loads::new();
+        let mut pressures = Vec::new();
         for (k, l) in self.spec.loads.iter().enumerate() {
             let s: &LoadSpec = l.get_ref();
             let key = |name: &str| format!("load[{k}].{name}");
@@ -437,15 +590,57 @@ impl Scene {
                 span: l.span(),
                 key: name,
             };
+            // The keys of each type; any other given is an error.
+            let keys: &[&str] = match s.kind.as_str() {
+                "gravity" => &["acceleration", "region", "amplitude"],
+                "point" => &["force", "at", "amplitude"],
+                "pressure" => &["pressure", "region", "body", "area", "normal", "amplitude"],
+                other => {
+                    return Err(self.error_in(
+                        &at("type"),
+                        &key("type"),
+                        format!("`{other}`: allowed values are gravity, point, pressure"),
+                    ))
+                }
+            };
+            for (name, given) in [
+                ("acceleration", s.acceleration.is_some()),
+                ("force", s.force.is_some()),
+                ("at", s.at.is_some()),
+                ("region", s.region.is_some()),
+                ("body", s.body.is_some()),
+                ("pressure", s.pressure.is_some()),
+                ("area", s.area.is_some()),
+                ("normal", s.normal.is_some()),
+                ("amplitude", s.amplitude.is_some()),
+            ] {
+                if given && !keys.contains(&name) {
+                    return Err(self.error_in(
+                        &at(name),
+                        &key(name),
+                        format!(
+                            "not a key of a {} load; its keys: {}",
+                            s.kind,
+                            keys.join(", ")
+                        ),
+                    ));
+                }
+            }
+            let amplitude =
+                self.amplitude(&at("amplitude"), &key("amplitude"), s.amplitude.as_ref())?;
+            let needs = |name: &str| {
+                self.error_in(
+                    &at("type"),
+                    &key(name),
+                    format!("a {} load needs {name}", s.kind),
+                )
+            };
             match s.kind.as_str() {
                 "gravity" => {
-                    let g = s.acceleration.as_ref().ok_or_else(|| {
-                        self.error_in(
-                            &at("type"),
-                            &key("acceleration"),
-                            "gravity needs an acceleration",
-                        )
-                    })?;
+                    let g = s
+                        .acceleration
+                        .as_ref()
+                        .ok_or_else(|| needs("acceleration"))?;
                     let g = self.vector::<D>(&at("acceleration"), &key("acceleration"), g)?;
                     let region = match &s.region {
                         Some(r) => Some(self.region(
@@ -458,34 +653,105 @@ impl Scene {
                         )?),
                         None => None,
                     };
-                    out.add_body_acceleration(region, TimeFunction::constant(g));
+                    out.add_body_acceleration(region, Self::scaled(g, amplitude));
                 }
                 "point" => {
-                    let (f, x) = match (&s.force, &s.at) {
-                        (Some(f), Some(x)) => (f, x),
-                        _ => {
-                            return Err(self.error_in(
-                                &at("type"),
-                                &key("force"),
-                                "a point load needs force and at",
-                            ))
-                        }
-                    };
+                    let f = s.force.as_ref().ok_or_else(|| needs("force"))?;
+                    let x = s.at.as_ref().ok_or_else(|| needs("at"))?;
                     let f = self.vector::<D>(&at("force"), &key("force"), f)?;
                     let x = self.vector::<D>(&at("at"), &key("at"), x)?;
                     let i = set.nearest(x).expect("a scene has particles") as u32;
-                    out.add_point_force(i, TimeFunction::constant(f));
+                    out.add_point_force(i, Self::scaled(f, amplitude));
                 }
-                other => {
-                    return Err(self.error_in(
-                        &at("type"),
-                        &key("type"),
-                        format!("`{other}`: allowed values are gravity, point"),
-                    ))
+                _ => {
+                    let p = s.pressure.ok_or_else(|| needs("pressure"))?;
+                    if !p.is_finite() {
+                        return Err(self.error_in(
+                            &at("pressure"),
+                            &key("pressure"),
+                            format!("{p}: allowed: finite (Pa)"),
+                        ));
+                    }
+                    let region = s.region.as_ref().ok_or_else(|| needs("region"))?;
+                    let candidates = self.region(
+                        &at("region"),
+                        &key("region"),
+                        set,
+                        ranges,
+                        region,
+                        s.body.as_ref(),
+                    )?;
+                    let mut surface = Vec::new();
+                    for (b, (_, r)) in ranges.iter().enumerate() {
+                        let mine: Vec<u32> = candidates
+                            .iter()
+                            .copied()
+                            .filter(|&i| r.contains(&(i as usize)))
+                            .collect();
+                        if !mine.is_empty() {
+                            surface.extend(
+                                surface_of::<D>(set.positions(), dps[b], &mine)
+                                    .map_err(|e| {
+                                        self.error_in(&at("region"), &key("region"), e.to_string())
+                                    })?
+                                    .into_iter()
+                                    .map(|p| (p, dps[b])),
+                            );
+                        }
+                    }
+                    if surface.is_empty() {
+                        return Err(self.error_in(
+                            &at("region"),
+                            &key("region"),
+                            "the region holds particles but none on the body's surface",
+                        ));
+                    }
+                    let normals: Vec<D::Vector> = match &s.normal {
+                        Some(n) => {
+                            let n = self.vector::<D>(&at("normal"), &key("normal"), n)?;
+                            let len = D::norm(n);
+                            if len == 0.0 {
+                                return Err(self.error_in(
+                                    &at("normal"),
+                                    &key("normal"),
+                                    "must not be zero",
+                                ));
+                            }
+                            vec![n / len; surface.len()]
+                        }
+                        None => surface.iter().map(|(p, _)| p.normal).collect(),
+                    };
+                    let areas: Vec<f64> = match s.area {
+                        Some(a) if a.is_finite() && a > 0.0 => {
+                            vec![a / surface.len() as f64; surface.len()]
+                        }
+                        Some(a) => {
+                            return Err(self.error_in(
+                                &at("area"),
+                                &key("area"),
+                                format!(
+                                    "{a}: allowed: > 0 and finite (m², m per unit depth in 2D)"
+                                ),
+                            ))
+                        }
+                        None => surface
+                            .iter()
+                            .map(|(p, dp)| set.volumes()[p.index as usize] / dp)
+                            .collect(),
+                    };
+                    pressures.push(SurfacePressure {
+                        particles: surface.iter().map(|(p, _)| p.index).collect(),
+                        normals: Some(normals),
+                        areas: Some(areas),
+                        pressure: match amplitude {
+                            None => PressureFunction::constant(p),
+                            Some(a) => PressureFunction::scaled(p, a),
+                        },
+                    });
                 }
             }
         }
-        Ok(out)
+        Ok((out, pressures))
     }
 
     pub(super) fn tools<D: Dim>(&self) -> Result<Vec<RigidTool<D>>, SceneError> {
@@ -512,7 +778,74 @@ impl Scene {
                 ),
             }
             .map_err(|e| self.error_in(&at("shape"), &key("shape"), e.to_string()))?;
-            let motion = match &s.direction {
+            let motion = self.tool_motion::<D>(&at, &key, s)?;
+            out.push(RigidTool::new(&s.name, shape, motion));
+        }
+        Ok(out)
+    }
+
+    /// A tool's motion: a straight line (`direction`, `speed`, `ramp_time`, `travel`), a
+    /// `path`, or a `velocity` curve; and a `rotation`.
+    fn tool_motion<'k, D: Dim>(
+        &self,
+        at: &dyn Fn(&'k str) -> At<'k>,
+        key: &dyn Fn(&str) -> String,
+        s: &ToolSpec,
+    ) -> Result<ToolMotion<D>, SceneError> {
+        let line = s.direction.is_some() || s.speed != 0.0 || s.ramp_time != 0.0;
+        let line = line || s.travel.is_some();
+        let given: Vec<&str> = [
+            ("direction", line),
+            ("path", s.path.is_some()),
+            ("velocity", s.velocity.is_some()),
+        ]
+        .iter()
+        .filter(|g| g.1)
+        .map(|g| g.0)
+        .collect();
+        if given.len() > 1 {
+            return Err(self.error_in(
+                &at(given[1]),
+                &key(given[1]),
+                format!(
+                    "a tool moves along a line (direction, speed, ramp_time, travel), a path or a \
+                     velocity curve: {} and {} were both given",
+                    given[0], given[1]
+                ),
+            ));
+        }
+        if s.amplitude.is_some() && s.velocity.is_none() {
+            return Err(self.error_in(
+                &at("amplitude"),
+                &key("amplitude"),
+                "a tool's amplitude scales its velocity: give velocity too",
+            ));
+        }
+        let bad = |name: &'k str| {
+            move |e: sph_core::Error| self.error_in(&at(name), &key(name), e.to_string())
+        };
+        let motion = if let Some(path) = &s.path {
+            let mut points = Vec::with_capacity(path.len());
+            for (n, p) in path.iter().enumerate() {
+                if p.len() != D::D + 1 {
+                    return Err(self.error_in(
+                        &at("path"),
+                        &key("path"),
+                        format!(
+                            "waypoint {n} = {p:?}: expected [time, {}]",
+                            ["ux", "uy", "uz"][..D::D].join(", ")
+                        ),
+                    ));
+                }
+                points.push((p[0], self.vector::<D>(&at("path"), &key("path"), &p[1..])?));
+            }
+            ToolMotion::path(points).map_err(bad("path"))?
+        } else if let Some(v) = &s.velocity {
+            let v = self.vector::<D>(&at("velocity"), &key("velocity"), v)?;
+            let a = self.amplitude(&at("amplitude"), &key("amplitude"), s.amplitude.as_ref())?;
+            ToolMotion::translating(v, a).map_err(bad("velocity"))?
+        } else {
+            match &s.direction {
                 Some(d) => ToolMotion::new(
                     self.vector::<D>(&at("direction"), &key("direction"), d)?,
                     s.speed,
@@ -526,10 +859,40 @@ impl Scene {
                     "a direction when speed > 0",
                 )),
             }
-            .map_err(|e| self.error_in(&at("speed"), &key("motion"), e.to_string()))?;
-            out.push(RigidTool::new(&s.name, shape, motion));
-        }
-        Ok(out)
+            .map_err(|e| self.error_in(&at("speed"), &key("motion"), e.to_string()))?
+        };
+        let Some(r) = &s.rotation else {
+            return Ok(motion);
+        };
+        let centre = self.vector::<D>(&at("rotation"), &key("rotation.centre"), &r.centre)?;
+        let axis = match (&r.axis, D::D) {
+            (Some(a), _) if a.len() == 3 && a.iter().all(|x| x.is_finite()) => {
+                DVec3::new(a[0], a[1], a[2])
+            }
+            (None, 2) => DVec3::Z,
+            (Some(a), _) => {
+                return Err(self.error_in(
+                    &at("rotation"),
+                    &key("rotation.axis"),
+                    format!("{a:?}: expected 3 finite numbers"),
+                ))
+            }
+            (None, _) => {
+                return Err(self.error_in(
+                    &at("rotation"),
+                    &key("rotation.axis"),
+                    "a 3D rotation needs its axis",
+                ))
+            }
+        };
+        let a = self.amplitude(
+            &at("rotation"),
+            &key("rotation.amplitude"),
+            r.amplitude.as_ref(),
+        )?;
+        motion
+            .rotating(centre, axis, r.angular_velocity, a)
+            .map_err(|e| self.error_in(&at("rotation"), &key("rotation"), e.to_string()))
     }
 
     pub(super) fn schedule(&self, end_time: f64) -> Result<Schedule, SceneError> {
@@ -541,12 +904,11 @@ impl Scene {
         ] {
             if let Some(v) = v {
                 if !(v.is_finite() && v >= 0.0) {
-                    return Err(SceneError {
-                        file: self.file.clone(),
-                        line: find_key_line(&self.text, k),
-                        key: format!("output.{k}"),
-                        message: format!("{}: allowed >= 0", Num(v)),
-                    });
+                    return Err(self.error_at_key(
+                        k,
+                        &format!("output.{k}"),
+                        format!("{}: allowed >= 0", Num(v)),
+                    ));
                 }
             }
         }

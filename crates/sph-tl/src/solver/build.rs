@@ -151,6 +151,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             constraints: Constraints::new(),
             free: vec![true; n],
             loads: Loads::new(),
+            pressures: Vec::new(),
             probes: Vec::new(),
             schedule: ProbeSchedule::every(0.0)?,
             tools: Vec::new(),

@@ -154,6 +154,9 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             .collect();
         self.constraints.restrict(inv);
         self.loads.restrict(inv);
+        for sp in &mut self.pressures {
+            sp.restrict(inv);
+        }
         for p in &mut self.probes {
             p.remap(inv);
         }

@@ -2,6 +2,7 @@
 //! Cauchy stress of the output fields, and the time series of the tools and named constraints.
 
 use super::*;
+use sph_core::conventions;
 
 impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// Empty series for the tools and named constraints, with a first row at the current time.
@@ -16,7 +17,16 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             let mut columns = vec!["displacement"];
             columns.extend_from_slice(axes);
             columns.push("contacts");
-            series.push(Series::new(&t.name, &columns));
+            // A tool off a straight line: its displacement vector, and the angle it turned.
+            if !t.motion.is_straight() {
+                columns.extend_from_slice(
+                    &["displacement_x", "displacement_y", "displacement_z"][..D::D],
+                );
+            }
+            if t.motion.rotation().is_some() {
+                columns.push("angle");
+            }
+            series.push(Series::new(&t.name, &columns).with_description(conventions::TOOL_SERIES));
         }
         let pos: &[&str] = if D::D == 2 {
             &["x", "y"]
@@ -26,7 +36,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         for (_, name) in self.constraints.named() {
             let mut columns = pos.to_vec();
             columns.extend_from_slice(axes);
-            series.push(Series::new(name, &columns));
+            series.push(Series::new(name, &columns).with_description(conventions::GRIP_SERIES));
         }
         self.series = series;
         self.tool_contacts = vec![0; self.tools.len()];
@@ -43,6 +53,13 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             let f = self.tool_meters[k].take_mean();
             row.extend((0..D::D).map(|c| D::component(f, c)));
             row.push(self.tool_contacts[k] as f64);
+            if !tool.motion.is_straight() {
+                let u = tool.motion.displacement(t);
+                row.extend((0..D::D).map(|c| D::component(u, c)));
+            }
+            if tool.motion.rotation().is_some() {
+                row.push(tool.motion.angle(t));
+            }
             self.series[k].push(t, &row);
         }
         let offset = self.tools.len();

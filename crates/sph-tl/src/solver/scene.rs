@@ -1,13 +1,14 @@
 //! What a scene attaches to a built TL solver: constraints, rigid tools, the quasi-static
-//! relaxation, a held centre, loads and probes, or a prescribed configuration.
+//! relaxation, a held centre, loads, surface pressure and probes, or a prescribed configuration.
 
 use super::TlSolver;
 use crate::original;
 use crate::reference_pairs::with_pair_rows;
+use sph_core::pressure::{ResolvedPressure, SurfacePressure};
 use sph_core::relaxation::{PairwiseDamper, PairwiseDamping};
 use sph_core::scene::ProbeSchedule;
 use sph_core::tool::{ReactionMeter, RigidTool};
-use sph_core::{Constraints, Dim, Error, Loads, Probe, Solver};
+use sph_core::{Constraints, Dim, Error, Kernel, Loads, Probe, Solver};
 use sph_materials::Material;
 
 impl<D: Dim, M: Material<D>> TlSolver<D, M> {
@@ -38,7 +39,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             sph_core::error::check_name("tool name", &t.name)?;
             // Eq 33's step follows the body's wave speed, not the tool's: a tool faster than
             // sound outruns the contact and collapses the step within a few dozen steps.
-            let speed = t.motion.speed();
+            let speed = t.max_speed();
             if speed >= self.sound_speed {
                 return Err(Error::invalid(
                     &format!("speed of tool `{}`", t.name),
@@ -107,6 +108,29 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     pub fn with_loads(mut self, loads: Loads<D>) -> Self {
         self.loads = loads;
         self
+    }
+
+    /// Adds a follower surface pressure (see [`sph_core::pressure`]), applied with the loads at
+    /// the half step, with `F` of the half step. Normals left `None` are estimated from the
+    /// reference neighbourhood (`N_i ∥ −Σ_j W_ij (X_j − X_i)`); a solver built for ranks needs
+    /// them given.
+    ///
+    /// # Errors
+    /// Particle indices outside the body, normals or areas of the wrong length, zero or
+    /// non-finite normals, non-positive areas, or an interior particle with estimated normals.
+    pub fn with_surface_pressure(mut self, sp: SurfacePressure<D>) -> Result<Self, Error> {
+        if sp.normals.is_none() {
+            self.built("surface pressure with estimated normals")?;
+        }
+        let (list, x0, kernel) = (&self.list, &self.reference, &self.kernel);
+        let resolved = ResolvedPressure::resolve(sp, self.len(), self.dp, |i| {
+            list.neighbors(i).iter().fold(D::zero(), |s, &j| {
+                let x = x0[j as usize] - x0[i];
+                s + x * kernel.w(D::norm(x))
+            })
+        })?;
+        self.pressures.push(resolved);
+        Ok(self)
     }
 
     /// Attaches probes, recorded at `t = 0` and then every `interval` of simulated time

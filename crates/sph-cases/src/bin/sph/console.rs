@@ -9,13 +9,46 @@
 //! - **bad arguments**: one line, like every other error (clap's usage text goes to `--help`).
 
 use std::io::Write;
+use std::path::Path;
 use std::process::ExitCode;
+use std::sync::Mutex;
 
-/// Writes `line` and a newline to stderr; a failure to write is ignored (see the module
-/// documentation).
+/// The `--log` file, when one was given: every line [`say`] writes, the progress lines and
+/// the figures also go there. Failed writes are ignored, as on stderr.
+static LOG: Mutex<Option<std::fs::File>> = Mutex::new(None);
+
+/// Opens `path` for appending as the log file (created if absent).
+pub(super) fn open_log(path: &Path) -> Result<(), sph_cases::CaseError> {
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .map_err(|e| sph_cases::CaseError::Io {
+            path: format!("--log {}", path.display()),
+            source: e,
+        })?;
+    if let Ok(mut log) = LOG.lock() {
+        *log = Some(file);
+    }
+    Ok(())
+}
+
+/// Writes `text` and a newline to the log file only (the progress lines behind a terminal's
+/// progress bar, the figures printed on stdout).
+pub(super) fn log_only(text: &str) {
+    if let Ok(mut log) = LOG.lock() {
+        if let Some(f) = log.as_mut() {
+            let _ = writeln!(f, "{text}").and_then(|_| f.flush());
+        }
+    }
+}
+
+/// Writes `line` and a newline to stderr (and the log file); a failure to write is ignored
+/// (see the module documentation).
 pub(super) fn say(line: &str) {
     let mut err = std::io::stderr().lock();
     let _ = writeln!(err, "{line}").and_then(|_| err.flush());
+    log_only(line);
 }
 
 /// Writes `text` to stdout. A closed pipe is not an error.

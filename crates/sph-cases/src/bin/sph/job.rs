@@ -32,40 +32,32 @@ pub(super) fn job(a: &RunArgs) -> Result<Job, CaseError> {
     }
 }
 
-/// A scene file: `--method`, `--set` and `--config` do not apply (the file holds everything).
+/// A scene file, with `--method` and `--set` as overrides of its keys or parameters
+/// (`--method M` is `--set method=M`, applied first). `--config` is a case's parameter file
+/// and does not apply.
 fn scene_job(a: &RunArgs) -> Result<Job, CaseError> {
-    for (flag, given) in [
-        ("--method", a.method.is_some()),
-        ("--set", !a.set.is_empty()),
-        ("--config", a.config.is_some()),
-    ] {
-        if given {
-            return Err(CaseError::Config(format!(
-                "{flag} does not apply to a scene file ({}): edit the file",
-                a.case
-            )));
-        }
+    if a.config.is_some() {
+        return Err(CaseError::Config(format!(
+            "--config reads a case's parameter file; {} is a scene file: give its keys or \
+             parameters with --set KEY=VALUE",
+            a.case
+        )));
     }
-    Scene::from_file(&a.case)
+    let mut overrides = Vec::new();
+    if let Some(m) = &a.method {
+        overrides.push(sph_scene::Override {
+            key: "method".into(),
+            value: m.clone(),
+        });
+    }
+    for s in &a.set {
+        overrides.push(
+            sph_scene::Override::parse(s).map_err(|e| CaseError::Config(format!("--set {e}")))?,
+        );
+    }
+    Scene::from_file_with(&a.case, &overrides)
         .map(|s| Job::Scene(Box::new(s), PathBuf::from(&a.case)))
-        .map_err(|e| match parameter_file_case(&a.case) {
-            Some(case) => CaseError::Config(format!(
-                "{0} is a parameter file of case `{case}` (as `sph list --toml` writes), not a \
-                 scene: run it with `sph run {case} --config {0}`",
-                a.case
-            )),
-            None => CaseError::Config(e.to_string()),
-        })
-}
-
-/// The case a parameter file names (`case = "…"`, no `[[body]]`), if the file is one.
-fn parameter_file_case(file: &str) -> Option<String> {
-    let text = sph_output::input::read_text_input(std::path::Path::new(file)).ok()?;
-    let table: toml::Table = text.parse().ok()?;
-    if table.contains_key("body") || table.contains_key("dimension") {
-        return None;
-    }
-    table.get("case")?.as_str().map(str::to_string)
+        .map_err(|e| CaseError::Config(e.to_string()))
 }
 
 fn case_job(a: &RunArgs) -> Result<Job, CaseError> {

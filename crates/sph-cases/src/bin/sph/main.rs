@@ -143,6 +143,9 @@ struct ResumeArgs {
     /// When stderr is not a terminal: a progress line every this many seconds (0: none).
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
     log_every: f64,
+    /// Also write the log to this file, appended (see `sph run --log`).
+    #[arg(long, value_name = "FILE")]
+    log: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -201,6 +204,15 @@ struct RunArgs {
     /// wall time (0: none). On a terminal a progress bar is drawn instead.
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
     log_every: f64,
+    /// Also write the log (the command, progress lines every --log-every seconds, warnings,
+    /// errors, the figures) to this file, appended.
+    #[arg(long, value_name = "FILE")]
+    log: Option<PathBuf>,
+    /// Results beside the HDF5 file: `vtu` also writes every snapshot as
+    /// `<case>-<method>_<k>.vtu` and their collection `<case>-<method>.pvd` (ParaView,
+    /// PyVista, meshio); `hdf5` (the default) only the HDF5 file and its XDMF sidecar.
+    #[arg(long, value_name = "FORMAT", default_value = "hdf5")]
+    format: String,
     /// Write a checkpoint (the full state, atomically) every this much simulated time (e.g.
     /// 0.01) or wall time (e.g. 5min, 90s); `sph resume` continues from it.
     #[arg(long, value_name = "INTERVAL")]
@@ -369,6 +381,10 @@ struct Settings {
     allow_long_run: bool,
     dry_run: bool,
     log_every: f64,
+    /// `--log`: the log also goes to this file.
+    log: Option<PathBuf>,
+    /// `--format vtu`: VTU frames and their collection beside the HDF5 file.
+    vtu: bool,
     checkpoint_every: Option<String>,
     checkpoint: Option<PathBuf>,
     /// `--config`, an input of the run.
@@ -394,6 +410,20 @@ fn run(a: RunArgs) -> Result<ExitCode, CaseError> {
         allow_long_run: a.allow_long_run,
         dry_run: a.dry_run,
         log_every: a.log_every,
+        log: a.log,
+        vtu: match a.format.as_str() {
+            "hdf5" => false,
+            "vtu" => true,
+            other => {
+                return Err(CaseError::InvalidValue {
+                    key: "--format".into(),
+                    value: other.into(),
+                    allowed: "hdf5 (the default) or vtu (VTU frames and a .pvd beside the HDF5 \
+                              file)"
+                        .into(),
+                })
+            }
+        },
         checkpoint_every: a.checkpoint_every,
         checkpoint: a.checkpoint,
         config: a.config,
@@ -463,6 +493,16 @@ fn execute(
             "--per-rank-output splits the results file by rank; --no-output writes none".into(),
         ));
     }
+    if a.no_output && a.vtu {
+        return Err(CaseError::Config(
+            "--format vtu writes frames beside the results file; --no-output writes none".into(),
+        ));
+    }
+    if a.per_rank_output && a.vtu {
+        return Err(CaseError::Config(
+            "--format vtu writes the gathered snapshots; --per-rank-output gathers none".into(),
+        ));
+    }
     if a.no_output && compression != Compression::None {
         return Err(CaseError::Config(
             "--compress compresses the results file; --no-output writes none".into(),
@@ -510,15 +550,37 @@ fn execute(
         inputs,
         checkpoint: checkpoint.as_ref().map(|c| c.path.clone()),
         other_rank: !root,
+        vtu: a.vtu,
+        log: a.log.clone().filter(|_| root),
     }
     .check()?;
+    if let (Some(path), true) = (&a.log, root) {
+        console::open_log(path)?;
+        let command: Vec<String> = std::env::args().collect();
+        console::log_only(&format!(
+            "sph {} (pid {}): {} {}",
+            env!("CARGO_PKG_VERSION"),
+            std::process::id(),
+            command.join(" "),
+            if resume_from.is_some() {
+                "(resumed)"
+            } else {
+                ""
+            }
+        ));
+    }
     let signals = signals::install()?;
     let options = RunOptions {
         output: results,
         backend,
         compression,
         progress: if root {
-            progress_display(std::io::stderr().is_terminal(), a.log_every, signals.report)?
+            progress_display(
+                std::io::stderr().is_terminal(),
+                a.log_every,
+                signals.report,
+                a.log.is_some(),
+            )?
         } else {
             None
         },
@@ -529,6 +591,7 @@ fn execute(
         resume: resume_from,
         ranks,
         per_rank_output: a.per_rank_output,
+        vtu: a.vtu,
     };
     let (record, summary) = budget::scoped(budget, || match &job {
         Job::Case {
@@ -576,6 +639,10 @@ fn execute(
     if let Some(f) = &record.file {
         text.push_str(&format!("{:<28} {}\n", "results", f.display()));
     }
+    if let Some(f) = &record.collection {
+        text.push_str(&format!("{:<28} {}\n", "vtu collection", f.display()));
+    }
+    console::log_only(text.trim_end());
     let code = if record.failure.is_some() {
         ExitCode::from(1)
     } else if let Some(sig) = record.interrupted {

@@ -4,11 +4,13 @@ use super::*;
 
 /// The progress display: a bar on a terminal; otherwise a line on stderr every `log_every`
 /// seconds of wall time (and at the end), so a batch job's log shows where the run is. When
-/// `report` is set (SIGUSR1), a line at once, whatever `log_every` says; it is cleared.
+/// `report` is set (SIGUSR1), a line at once, whatever `log_every` says; it is cleared. With
+/// a `--log` file (`logged`), the lines go there too, behind a terminal's bar as well.
 pub(super) fn progress_display(
     terminal: bool,
     log_every: f64,
     report: Arc<AtomicBool>,
+    logged: bool,
 ) -> Result<Option<ProgressSink>, CaseError> {
     use std::sync::atomic::Ordering;
     if !(log_every.is_finite() && log_every >= 0.0) {
@@ -25,7 +27,20 @@ pub(super) fn progress_display(
             ProgressStyle::with_template("{bar:30} t = {msg}")
                 .unwrap_or_else(|_| ProgressStyle::default_bar()),
         );
+        let last = std::sync::Mutex::new(0.0f64);
         return Ok(Some(ProgressSink::new(move |p: &Progress| {
+            if logged {
+                let mut last = last.lock().unwrap_or_else(|e| e.into_inner());
+                let due = if p.finished {
+                    true
+                } else {
+                    log_every > 0.0 && p.wall_seconds - *last >= log_every
+                };
+                if due {
+                    *last = p.wall_seconds;
+                    console::log_only(&progress_line(p));
+                }
+            }
             if p.finished {
                 bar.finish_and_clear();
                 return;
@@ -49,7 +64,7 @@ pub(super) fn progress_display(
         // A line every `log_every` seconds (none when 0), and a last one at the end of a run
         // that printed any (a short run prints none); one whenever SIGUSR1 asks.
         let due = if p.finished {
-            *last > 0.0
+            *last > 0.0 || logged
         } else {
             log_every > 0.0 && p.wall_seconds - *last >= log_every
         };

@@ -38,6 +38,7 @@ pub(super) fn resume(a: ResumeArgs) -> Result<ExitCode, CaseError> {
     }
     settings.max_memory = a.max_memory;
     settings.log_every = a.log_every;
+    settings.log = a.log;
     execute(job, settings, Some(Arc::new(checkpoint)))
 }
 
@@ -98,7 +99,20 @@ pub(super) fn resume_job(c: &Checkpoint) -> Result<(Job, Settings), CaseError> {
                     c.path.display()
                 )));
             }
-            Scene::from_file(file)
+            // The overrides of the run (none in checkpoints written before they existed).
+            let overrides = match c.run.get("overrides") {
+                None => Vec::new(),
+                Some(Json::Array(list)) => list
+                    .iter()
+                    .map(|o| {
+                        o.as_str().ok_or_else(|| bad("overrides")).and_then(|o| {
+                            sph_scene::Override::parse(o).map_err(|_| bad("overrides"))
+                        })
+                    })
+                    .collect::<Result<_, _>>()?,
+                Some(_) => return Err(bad("overrides")),
+            };
+            Scene::from_file_with(file, &overrides)
                 .map(|s| Job::Scene(Box::new(s), PathBuf::from(file)))
                 .map_err(|e| CaseError::Config(e.to_string()))?
         }
@@ -133,6 +147,9 @@ pub(super) fn resume_job(c: &Checkpoint) -> Result<(Job, Settings), CaseError> {
         allow_long_run: flag("allow_long_run")?,
         dry_run: false,
         log_every: 10.0,
+        log: None,
+        // Absent from checkpoints written before the option existed: off.
+        vtu: c.run.get("vtu").and_then(Json::as_bool).unwrap_or(false),
         checkpoint_every: Some(text("checkpoint_every")?.to_string()),
         checkpoint: path("checkpoint")?,
         config: None,
@@ -168,6 +185,7 @@ pub(super) fn run_description(
         "allow_long_run": s.allow_long_run,
         "checkpoint_every": s.checkpoint_every,
         "checkpoint": abs(checkpoint)?,
+        "vtu": s.vtu,
         "ranks": ranks().map_or(1, |c| c.size()),
     });
     let m = d.as_object_mut().expect("an object");
@@ -187,9 +205,15 @@ pub(super) fn run_description(
             m.insert("method".into(), (*method).into());
             m.insert("params".into(), assignments.into());
         }
-        Job::Scene(_, file) => {
+        Job::Scene(scene, file) => {
             let bytes = sph_output::input::read_input(file, sph_output::input::MAX_TEXT_BYTES)
                 .map_err(|e| CaseError::Config(format!("the scene file {e}")))?;
+            let overrides: Vec<String> = scene
+                .overrides()
+                .iter()
+                .map(|o| format!("{}={}", o.key, o.value))
+                .collect();
+            m.insert("overrides".into(), overrides.into());
             m.insert("job".into(), "scene".into());
             m.insert("scene".into(), abs(file)?.into());
             m.insert(

@@ -1,16 +1,21 @@
-//! Follower surface pressure on tagged boundary particles (the MPS paper's pressurised rubber
-//! ring, §IV.A: a radial pressure on the inner circumference).
+//! Follower surface pressure on boundary particles: a gas or fluid pressure, a surface traction
+//! normal to the body (the MPS paper's pressurised rubber ring, §IV.A: a radial pressure on the
+//! inner circumference). The methods that carry a deformation gradient apply it (TL and MPS:
+//! `with_surface_pressure`).
 //!
 //! Particle `i` of the loaded surface carries a reference area `A⁰_i` (its share of the surface;
 //! in 2D a length per unit depth, e.g. `dp`) and a reference **outward** unit normal `N_i` of the
 //! body. Its current area vector follows Nanson's formula `n_i a_i = cof(F_i) N_i A⁰_i`
-//! ([`crate::wls::cofactor`]), so the load turns and stretches with the deformation, and the
+//! ([`crate::dim::cofactor`]), so the load turns and stretches with the deformation, and the
 //! pressure `p(t)` (positive = compression, pushing into the body) gives the force
 //! `f_i = −p(t) cof(F_i) N_i A⁰_i`. For the ring's inner surface the outward normal of the body
 //! points toward the centre, so a positive pressure pushes the wall outward. The load is not
 //! conservative (follower load), so it does not enter the energy.
+//! [`crate::surface::surface_of`] finds the surface particles of a region with their normals.
 
-use sph_core::{Dim, Error};
+use crate::amplitude::Amplitude;
+use crate::dim::{cofactor, Dim};
+use crate::error::Error;
 use std::fmt;
 use std::sync::Arc;
 
@@ -26,6 +31,10 @@ impl PressureFunction {
     /// A constant pressure.
     pub fn constant(p: f64) -> Self {
         Self::new(move |_| p)
+    }
+    /// `p · a(t)`: a pressure following an amplitude curve.
+    pub fn scaled(p: f64, amplitude: Amplitude) -> Self {
+        Self::new(move |t| p * amplitude.at(t))
     }
     /// Evaluates at time `t`.
     #[inline]
@@ -68,11 +77,14 @@ impl<D: Dim> SurfacePressure<D> {
     }
 }
 
-/// A validated surface pressure with resolved normals and areas: `area_normal[k] = A⁰ N`.
+/// A validated surface pressure with resolved normals and areas, as a solver applies it.
 #[derive(Clone, Debug)]
-pub(crate) struct ResolvedPressure<D: Dim> {
+pub struct ResolvedPressure<D: Dim> {
+    /// The loaded particles.
     pub particles: Vec<u32>,
+    /// `A⁰_k N_k`, one per loaded particle.
     pub area_normal: Vec<D::Vector>,
+    /// The pressure `p(t)`.
     pub pressure: PressureFunction,
 }
 
@@ -160,5 +172,36 @@ impl<D: Dim> ResolvedPressure<D> {
             area_normal: normals.iter().zip(&areas).map(|(&v, &a)| v * a).collect(),
             pressure: sp.pressure,
         })
+    }
+
+    /// Adds the accelerations `−p(t) cof(F_i) N_i A⁰_i / m_i` of the pressure at time `t` to
+    /// `acc`, with the deformation gradients `deformation` and inverse masses `inv_mass(i)`.
+    #[inline]
+    pub fn add_accelerations(
+        &self,
+        t: f64,
+        deformation: &[D::Matrix],
+        inv_mass: impl Fn(usize) -> f64,
+        acc: &mut [D::Vector],
+    ) {
+        let p = self.pressure.at(t);
+        for (&i, &an) in self.particles.iter().zip(&self.area_normal) {
+            let i = i as usize;
+            let f = cofactor::<D>(deformation[i]) * an * (-p);
+            acc[i] += f * inv_mass(i);
+        }
+    }
+
+    /// Keeps only the loaded particles of a subset and relabels them (`inv[old] = new`, or
+    /// `u32::MAX` for a particle outside it): one rank's share of a distributed run.
+    pub fn restrict(&mut self, inv: &[u32]) {
+        let (particles, normals): (Vec<u32>, Vec<D::Vector>) = self
+            .particles
+            .iter()
+            .zip(&self.area_normal)
+            .filter(|(&i, _)| inv[i as usize] != u32::MAX)
+            .map(|(&i, &n)| (inv[i as usize], n))
+            .unzip();
+        (self.particles, self.area_normal) = (particles, normals);
     }
 }
