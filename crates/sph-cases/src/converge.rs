@@ -94,17 +94,61 @@ pub struct StoredLevel {
     pub summary: Map<String, Value>,
 }
 
-/// What a ladder runs: a case with its method and parameters.
+/// What a ladder runs: a case with its method and parameters, or a scene file.
 #[derive(Clone)]
-pub struct Subject {
-    /// The case.
-    pub case: &'static dyn Case,
+pub enum Subject {
+    /// A case.
+    Case {
+        /// The case.
+        case: &'static dyn Case,
+        /// The method.
+        method: &'static str,
+        /// `--config`, applied to every level.
+        config: Option<PathBuf>,
+        /// `--set` assignments, applied to every level (not the refinement key).
+        set: Vec<String>,
+    },
+    /// A scene file, refined by the spacing of every body at once.
+    Scene {
+        /// The file.
+        file: PathBuf,
+        /// Its name (the results' and the levels' names).
+        name: String,
+        /// The method (`--method`, or the file's).
+        method: String,
+        /// `--set` overrides, applied to every level (not a body's `dp`).
+        set: Vec<String>,
+        /// Each body's spacing in the file (overrides applied).
+        spacings: Vec<f64>,
+    },
+}
+
+impl Subject {
+    /// The case's or scene's name.
+    pub fn name(&self) -> &str {
+        match self {
+            Subject::Case { case, .. } => case.info().name,
+            Subject::Scene { name, .. } => name,
+        }
+    }
+
     /// The method.
-    pub method: &'static str,
-    /// `--config`, applied to every level.
-    pub config: Option<PathBuf>,
-    /// `--set` assignments, applied to every level (not the refinement key).
-    pub set: Vec<String>,
+    pub fn method(&self) -> &str {
+        match self {
+            Subject::Case { method, .. } => method,
+            Subject::Scene { method, .. } => method,
+        }
+    }
+}
+
+/// How a scene refines: the spacing of its finest body (every body's spacing scales with it).
+pub fn scene_refinement(spacings: &[f64]) -> Refinement {
+    Refinement {
+        key: "dp",
+        finer_is_larger: false,
+        whole: false,
+        default: spacings.iter().copied().fold(f64::INFINITY, f64::min),
+    }
 }
 
 /// Where and how the levels run.
@@ -131,8 +175,8 @@ impl Runner {
     fn level_name(subject: &Subject, r: &Refinement, value: f64) -> String {
         format!(
             "{}-{}-{}{}",
-            subject.case.info().name,
-            subject.method,
+            subject.name(),
+            subject.method(),
             r.key,
             crate::params::Value::Float(value)
         )
@@ -140,29 +184,55 @@ impl Runner {
 
     /// The `sph run` arguments of a level, without output destinations.
     fn args(&self, subject: &Subject, r: &Refinement, value: f64) -> Vec<String> {
-        let mut a = vec![
-            "run".to_string(),
-            subject.case.info().name.to_string(),
-            "--method".into(),
-            subject.method.to_string(),
-        ];
-        if let Some(c) = &subject.config {
-            a.extend(["--config".into(), c.display().to_string()]);
+        let mut a = vec!["run".to_string()];
+        match subject {
+            Subject::Case {
+                case,
+                method,
+                config,
+                set,
+            } => {
+                a.extend([
+                    case.info().name.to_string(),
+                    "--method".into(),
+                    method.to_string(),
+                ]);
+                if let Some(c) = config {
+                    a.extend(["--config".into(), c.display().to_string()]);
+                }
+                for s in set {
+                    a.extend(["--set".into(), s.clone()]);
+                }
+                let shown = if r.whole {
+                    format!("{}", value.round() as i64)
+                } else {
+                    format!("{value:?}")
+                };
+                a.extend(["--set".into(), format!("{}={shown}", r.key)]);
+            }
+            Subject::Scene {
+                file,
+                method,
+                set,
+                spacings,
+                ..
+            } => {
+                a.extend([
+                    file.display().to_string(),
+                    "--method".into(),
+                    method.clone(),
+                ]);
+                for s in set {
+                    a.extend(["--set".into(), s.clone()]);
+                }
+                // Every body refined by the same factor.
+                let scale = value / r.default;
+                for (k, dp) in spacings.iter().enumerate() {
+                    a.extend(["--set".into(), format!("body[{k}].dp={:?}", dp * scale)]);
+                }
+            }
         }
-        for s in &subject.set {
-            a.extend(["--set".into(), s.clone()]);
-        }
-        let shown = if r.whole {
-            format!("{}", value.round() as i64)
-        } else {
-            format!("{value:?}")
-        };
-        a.extend([
-            "--set".into(),
-            format!("{}={shown}", r.key),
-            "--threads".into(),
-            self.threads.to_string(),
-        ]);
+        a.extend(["--threads".into(), self.threads.to_string()]);
         a
     }
 
@@ -187,11 +257,7 @@ impl Runner {
         let command = format!("sph {}", args.join(" "));
         let stored_path = self.store.join(format!("{name}.json"));
         let out_dir = self.store.join(&name);
-        let results = out_dir.join(format!(
-            "{}-{}.h5",
-            subject.case.info().name,
-            subject.method
-        ));
+        let results = out_dir.join(format!("{}-{}.h5", subject.name(), subject.method()));
         let needs_results = self.quantities.iter().any(Quantity::needs_results);
         let reuse = std::fs::read_to_string(&stored_path)
             .ok()

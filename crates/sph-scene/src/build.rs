@@ -243,6 +243,11 @@ impl Scene {
         self.spec.method.get_ref()
     }
 
+    /// The scene as parsed (overrides and parameters applied): its bodies, loads, tools, …
+    pub fn spec(&self) -> &SceneSpec {
+        &self.spec
+    }
+
     /// Builds the scene and runs it through [`drive`] with `options`.
     ///
     /// # Errors

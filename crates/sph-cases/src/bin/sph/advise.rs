@@ -33,7 +33,7 @@ pub(super) fn advise_command(a: AdviseArgs) -> Result<ExitCode, CaseError> {
         None => case.info().methods.to_vec(),
     };
     for &m in &methods {
-        job(&RunArgs::for_case(&a.case, m, &a.set, None)?)?;
+        job(&RunArgs::for_target(&a.case, Some(m), &a.set, None)?)?;
     }
     let data = stored();
     let advice = advise(&data, &a.case, &methods, &a.set, tolerance).ok_or_else(|| {

@@ -7,7 +7,7 @@ use sph_driver::convergence::ladder::{LadderError, Plan, Report};
 
 #[derive(clap::Args)]
 pub(super) struct ConvergeArgs {
-    /// Case name (see `sph list`).
+    /// Case name (see `sph list`), or a scene file (every body's dp is refined).
     case: String,
     /// A quantity to converge: a summary key (e.g. period), probe:NAME:position.y:min,
     /// series:NAME:COLUMN:max, … (repeatable).
@@ -19,13 +19,15 @@ pub(super) struct ConvergeArgs {
     /// The method, or several separated by commas (a ladder each; the report compares them).
     #[arg(long, short)]
     method: Option<String>,
-    /// Set a parameter for every level: key=value (repeatable; not the resolution key).
+    /// Set a parameter (or a scene key) for every level: key=value (repeatable; not the
+    /// resolution key, nor a body's dp).
     #[arg(long = "set", short = 's', value_name = "KEY=VALUE")]
     set: Vec<String>,
-    /// A parameter file applied to every level.
+    /// A case's parameter file applied to every level.
     #[arg(long)]
     config: Option<PathBuf>,
-    /// The first level's resolution (default: the case's default over ratio², at least 4).
+    /// The first level's resolution (default: the case's default over ratio², at least 4); for
+    /// a scene file, the finest body's dp (default: the file's times ratio²).
     #[arg(long)]
     start: Option<f64>,
     /// The refinement ratio between levels, 1 < ratio <= 4 (default 1.5).
@@ -103,8 +105,63 @@ fn parse_budget(text: &str) -> Result<(Option<f64>, Option<f64>), CaseError> {
     Err(bad())
 }
 
+/// The subject of the ladder of one method, checked as `sph run` would check the run (for a
+/// case, its refinement key; for a scene, every body's spacing), with its refinement.
+fn subject(a: &ConvergeArgs, method: Option<&str>) -> Result<(Subject, Refinement), CaseError> {
+    let run_args = RunArgs::for_target(&a.case, method, &a.set, a.config.clone())?;
+    let refused = |key: &str| {
+        a.set
+            .iter()
+            .find(|s| {
+                let k = s.split('=').next().unwrap_or("").trim();
+                k == key || (key == "dp" && k.starts_with("body") && k.ends_with(".dp"))
+            })
+            .map(|s| {
+                CaseError::Config(format!(
+                    "--set {s}: the ladder sets {key} (use --start and --ratio)"
+                ))
+            })
+    };
+    match job(&run_args)? {
+        Job::Case {
+            case,
+            method,
+            params: _,
+        } => {
+            let r = converge::refinement_of(case, method)?;
+            if let Some(e) = refused(r.key) {
+                return Err(e);
+            }
+            Ok((
+                Subject::Case {
+                    case,
+                    method,
+                    config: a.config.clone(),
+                    set: a.set.clone(),
+                },
+                r,
+            ))
+        }
+        Job::Scene(scene, file) => {
+            if let Some(e) = refused("dp") {
+                return Err(e);
+            }
+            let spacings: Vec<f64> = scene.spec().bodies.iter().map(|b| b.get_ref().dp).collect();
+            Ok((
+                Subject::Scene {
+                    file,
+                    name: scene.name().to_string(),
+                    method: scene.method().to_string(),
+                    set: a.set.clone(),
+                    spacings: spacings.clone(),
+                },
+                converge::scene_refinement(&spacings),
+            ))
+        }
+    }
+}
+
 pub(super) fn converge_command(a: ConvergeArgs) -> Result<ExitCode, CaseError> {
-    let case = find_case(&a.case)?;
     let tolerance = parse_tolerance(&a.tolerance)?;
     let (mut cpu_budget, mut memory_budget) = (None, None);
     for b in &a.budget {
@@ -117,46 +174,32 @@ pub(super) fn converge_command(a: ConvergeArgs) -> Result<ExitCode, CaseError> {
         .iter()
         .map(|q| q.parse().map_err(CaseError::Config))
         .collect::<Result<_, _>>()?;
-    let methods: Vec<&'static str> = match &a.method {
-        Some(list) => list
-            .split(',')
-            .map(|m| resolve_method(case, Some(m.trim())))
-            .collect::<Result<_, _>>()?,
-        None => vec![resolve_method(case, None)?],
+    let methods: Vec<Option<&str>> = match &a.method {
+        Some(list) => list.split(',').map(|m| Some(m.trim())).collect(),
+        None => vec![None],
     };
+    // Every method's runs checked as `sph run` would, before any work.
+    let subjects: Vec<(Subject, Refinement)> = methods
+        .iter()
+        .map(|m| subject(&a, *m))
+        .collect::<Result<_, _>>()?;
     let threads = threads::configure(a.threads)?;
+    let name = subjects[0].0.name().to_string();
     let store = a
         .store
         .clone()
-        .unwrap_or_else(|| converge::default_store(&a.out, case.info().name));
+        .unwrap_or_else(|| converge::default_store(&a.out, &name));
     let report_path = a
         .report
         .clone()
         .unwrap_or_else(|| store.join("report.json"));
-    // Every level's parameters are checked as `sph run` would, before any work: the same
-    // job for the default resolution, and the refinement key is the ladder's.
-    let mut plans: Vec<(&'static str, Refinement, Plan)> = Vec::new();
-    for &method in &methods {
-        let r = converge::refinement_of(case, method)?;
-        if let Some(s) = a
-            .set
-            .iter()
-            .find(|s| s.split('=').next().map(str::trim) == Some(r.key))
-        {
-            return Err(CaseError::Config(format!(
-                "--set {s}: the ladder sets {} (use --start and --ratio)",
-                r.key
-            )));
-        }
-        let run_args = RunArgs::for_case(&a.case, method, &a.set, a.config.clone())?;
-        job(&run_args)?;
-        let first = a
-            .start
-            .unwrap_or_else(|| converge::default_start(&r, a.ratio));
-        plans.push((
-            method,
-            r,
-            Plan {
+    let plans: Vec<(Subject, Refinement, Plan)> = subjects
+        .into_iter()
+        .map(|(subject, r)| {
+            let first = a
+                .start
+                .unwrap_or_else(|| converge::default_start(&r, a.ratio));
+            let plan = Plan {
                 first,
                 ratio: a.ratio,
                 max_levels: a.levels,
@@ -166,9 +209,10 @@ pub(super) fn converge_command(a: ConvergeArgs) -> Result<ExitCode, CaseError> {
                 cpu_budget,
                 memory_budget: memory_budget
                     .or_else(|| memory_budget_bytes(threads).map(|b| b as f64)),
-            },
-        ));
-    }
+            };
+            (subject, r, plan)
+        })
+        .collect();
     let _signals = signals::install()?;
     let program = std::env::current_exe().map_err(|e| CaseError::Io {
         path: "the sph program".into(),
@@ -182,15 +226,10 @@ pub(super) fn converge_command(a: ConvergeArgs) -> Result<ExitCode, CaseError> {
         announce: |c| say(&format!("level: {c}")),
     };
     let mut reports: Vec<(&str, Report)> = Vec::new();
-    for (method, r, plan) in &plans {
-        let subject = Subject {
-            case,
-            method,
-            config: a.config.clone(),
-            set: a.set.clone(),
-        };
+    for (subject, r, plan) in &plans {
+        let method = subject.method();
         let mut interrupted = None;
-        match converge::converge(&subject, r, plan, &runner, &a.quantities, &mut interrupted) {
+        match converge::converge(subject, r, plan, &runner, &a.quantities, &mut interrupted) {
             Ok(rep) => reports.push((method, rep)),
             Err(e) => {
                 say(&format!("error: {method}: {e}"));
@@ -206,7 +245,7 @@ pub(super) fn converge_command(a: ConvergeArgs) -> Result<ExitCode, CaseError> {
     }
     let refs: Vec<(&str, &Report)> = reports.iter().map(|(m, r)| (*m, r)).collect();
     let refinement = plans[0].1.key;
-    let json = report::to_json(case.info().name, refinement, tolerance, &refs);
+    let json = report::to_json(&name, refinement, tolerance, &refs);
     if let Some(dir) = report_path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| CaseError::Io {
             path: dir.display().to_string(),
@@ -218,7 +257,7 @@ pub(super) fn converge_command(a: ConvergeArgs) -> Result<ExitCode, CaseError> {
     for (what, r) in [
         ("report", report::write_json(&report_path, &json)),
         ("report", report::write_h5(&h5, &json, &refs)),
-        ("plot", report::write_png(&png, case.info().name, &refs)),
+        ("plot", report::write_png(&png, &name, &refs)),
     ] {
         if let Err(e) = r {
             say(&format!("error: writing the {what}: {e}"));

@@ -223,16 +223,18 @@ struct RunArgs {
 }
 
 impl RunArgs {
-    /// `sph run CASE --method METHOD --set … [--config FILE]`, every other option at its
-    /// default (as clap gives it).
-    fn for_case(
-        case: &str,
-        method: &str,
+    /// `sph run TARGET [--method METHOD] --set … [--config FILE]` (a case or a scene file),
+    /// every other option at its default (as clap gives it).
+    fn for_target(
+        target: &str,
+        method: Option<&str>,
         set: &[String],
         config: Option<PathBuf>,
     ) -> Result<Self, CaseError> {
-        let mut argv: Vec<String> = vec!["sph".into(), "run".into(), case.into()];
-        argv.extend(["--method".into(), method.into()]);
+        let mut argv: Vec<String> = vec!["sph".into(), "run".into(), target.into()];
+        if let Some(m) = method {
+            argv.extend(["--method".into(), m.into()]);
+        }
         for s in set {
             argv.extend(["--set".into(), s.clone()]);
         }
