@@ -330,6 +330,45 @@ impl Runner {
         })
     }
 
+    /// The coarsest of `r`'s default start and the levels between it and the case's (or
+    /// scene's) own resolution whose dry run passes (a scene's body too thin at the default
+    /// start moves it finer), else the own resolution.
+    pub fn first_level(&self, subject: &Subject, r: &Refinement, ratio: f64) -> f64 {
+        let six = |x: f64| {
+            let scale = 10f64.powi(5 - x.abs().log10().floor() as i32);
+            (x * scale).round() / scale
+        };
+        let mut candidate = if r.whole {
+            default_start(r, ratio)
+        } else {
+            six(default_start(r, ratio))
+        };
+        for _ in 0..3 {
+            if dry_run(&self.program, &self.args(subject, r, candidate)).is_some() {
+                return candidate;
+            }
+            candidate = if r.finer_is_larger {
+                let c = candidate * ratio;
+                if r.whole {
+                    c.round()
+                } else {
+                    c
+                }
+            } else {
+                six(candidate / ratio)
+            };
+            let past = if r.finer_is_larger {
+                candidate >= r.default
+            } else {
+                candidate <= r.default
+            };
+            if past {
+                break;
+            }
+        }
+        r.default
+    }
+
     /// A level's cost before it runs, from a dry run: its particle-steps over
     /// [`FASTEST_PARTICLE_STEPS_PER_CPU_SECOND`] (a lower bound of its CPU time) and its
     /// memory estimate. `None` if the dry run gives none.

@@ -50,7 +50,9 @@ impl Plan {
                     rounded.min(r - 1.0)
                 }
             } else {
-                next
+                // Six significant digits: levels with readable values, the same every time.
+                let scale = 10f64.powi(5 - next.abs().log10().floor() as i32);
+                (next * scale).round() / scale
             };
         }
         r
@@ -558,7 +560,8 @@ mod tests {
         p.whole = false;
         p.finer_is_larger = false;
         p.first = 1e-3;
-        assert!((p.refinement(2) - 1e-3 / 1.44).abs() < 1e-15);
+        assert!((p.refinement(2) - 1e-3 / 1.44).abs() < 1e-8);
+        assert_eq!(p.refinement(2), 0.000694444);
         assert_eq!(p.spacing(2e-3), 2e-3);
     }
 }

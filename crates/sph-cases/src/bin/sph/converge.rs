@@ -193,12 +193,23 @@ pub(super) fn converge_command(a: ConvergeArgs) -> Result<ExitCode, CaseError> {
         .report
         .clone()
         .unwrap_or_else(|| store.join("report.json"));
+    let program = std::env::current_exe().map_err(|e| CaseError::Io {
+        path: "the sph program".into(),
+        source: e,
+    })?;
+    let runner = Runner {
+        program,
+        store: store.clone(),
+        threads,
+        quantities,
+        announce: |c| say(&format!("level: {c}")),
+    };
     let plans: Vec<(Subject, Refinement, Plan)> = subjects
         .into_iter()
         .map(|(subject, r)| {
             let first = a
                 .start
-                .unwrap_or_else(|| converge::default_start(&r, a.ratio));
+                .unwrap_or_else(|| runner.first_level(&subject, &r, a.ratio));
             let plan = Plan {
                 first,
                 ratio: a.ratio,
@@ -214,17 +225,6 @@ pub(super) fn converge_command(a: ConvergeArgs) -> Result<ExitCode, CaseError> {
         })
         .collect();
     let _signals = signals::install()?;
-    let program = std::env::current_exe().map_err(|e| CaseError::Io {
-        path: "the sph program".into(),
-        source: e,
-    })?;
-    let runner = Runner {
-        program,
-        store: store.clone(),
-        threads,
-        quantities,
-        announce: |c| say(&format!("level: {c}")),
-    };
     let mut reports: Vec<(&str, Report)> = Vec::new();
     for (subject, r, plan) in &plans {
         let method = subject.method();
