@@ -108,7 +108,8 @@ pub enum Subject {
         /// `--set` assignments, applied to every level (not the refinement key).
         set: Vec<String>,
     },
-    /// A scene file, refined by the spacing of every body at once.
+    /// A scene file, refined by its parameter `dp` when it has one (every value written with
+    /// `${dp}` follows), else by the spacing of every body at once.
     Scene {
         /// The file.
         file: PathBuf,
@@ -120,6 +121,8 @@ pub enum Subject {
         set: Vec<String>,
         /// Each body's spacing in the file (overrides applied).
         spacings: Vec<f64>,
+        /// The file's parameter `dp`, if it has one (overrides applied).
+        dp_parameter: Option<f64>,
     },
 }
 
@@ -141,13 +144,15 @@ impl Subject {
     }
 }
 
-/// How a scene refines: the spacing of its finest body (every body's spacing scales with it).
-pub fn scene_refinement(spacings: &[f64]) -> Refinement {
+/// How a scene refines: its parameter `dp`, else the spacing of its finest body (every body's
+/// spacing scales with it).
+pub fn scene_refinement(spacings: &[f64], dp_parameter: Option<f64>) -> Refinement {
     Refinement {
         key: "dp",
         finer_is_larger: false,
         whole: false,
-        default: spacings.iter().copied().fold(f64::INFINITY, f64::min),
+        default: dp_parameter
+            .unwrap_or_else(|| spacings.iter().copied().fold(f64::INFINITY, f64::min)),
     }
 }
 
@@ -215,6 +220,7 @@ impl Runner {
                 method,
                 set,
                 spacings,
+                dp_parameter,
                 ..
             } => {
                 a.extend([
@@ -225,10 +231,14 @@ impl Runner {
                 for s in set {
                     a.extend(["--set".into(), s.clone()]);
                 }
-                // Every body refined by the same factor.
-                let scale = value / r.default;
-                for (k, dp) in spacings.iter().enumerate() {
-                    a.extend(["--set".into(), format!("body[{k}].dp={:?}", dp * scale)]);
+                if dp_parameter.is_some() {
+                    a.extend(["--set".into(), format!("dp={value:?}")]);
+                } else {
+                    // Every body refined by the same factor.
+                    let scale = value / r.default;
+                    for (k, dp) in spacings.iter().enumerate() {
+                        a.extend(["--set".into(), format!("body[{k}].dp={:?}", dp * scale)]);
+                    }
                 }
             }
         }

@@ -312,3 +312,113 @@ fn advise_suggests_the_cheapest_stored_run() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A scene whose bodies take their spacing from a `[parameters]` entry `dp` is refined through
+/// that parameter (one `--set dp=…` per level, every `${dp}` following), and a probe's sampled
+/// field is a quantity (`probe:NAME:FIELD.COMPONENT:STAT`).
+#[test]
+fn a_scene_refines_through_its_dp_parameter_and_reads_a_probe_field() {
+    let dir = scratch("scene");
+    std::fs::write(
+        dir.join("beam.toml"),
+        r#"name = "beam"
+dimension = 2
+method = "tl"
+end_time = 2e-3
+
+[parameters]
+dp = 4e-3
+
+[material]
+law = "saint-venant-kirchhoff"
+density = 1000.0
+youngs_modulus = 2e6
+nu = 0.3
+
+[output]
+probe_interval = 1e-4
+
+[[body]]
+name = "beam"
+dp = "${dp}"
+shape = { box = { min = [-0.016, -0.008], max = [0.08, 0.008] } }
+
+[[constraint]]
+type = "fixed"
+region = { box = { min = [-1.0, -1.0], max = [0.0, 1.0] } }
+
+[[load]]
+type = "gravity"
+acceleration = [0.0, -9.81]
+
+[[probe]]
+name = "tip"
+at = [0.08, 0.0]
+fields = ["displacement"]
+"#,
+    )
+    .unwrap();
+    let out = sph(
+        &dir,
+        &[
+            "converge",
+            "beam.toml",
+            "--quantity",
+            "probe:tip:displacement.y:final",
+            "--start",
+            "4e-3",
+            "--ratio",
+            "2",
+            "--levels",
+            "2",
+            "--tolerance",
+            "50%",
+            "--threads",
+            "1",
+        ],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert_eq!(err.matches("--set dp=").count(), 2, "{err}");
+    assert!(!err.contains("body[0].dp"), "{err}");
+    let report = json(&dir.join("out/converge-beam/report.json"));
+    let runs = report["quantities"]["probe:tip:displacement.y:final"]["runs"]
+        .as_array()
+        .unwrap()
+        .clone();
+    let res: Vec<f64> = runs
+        .iter()
+        .map(|r| r["resolution"].as_f64().unwrap())
+        .collect();
+    assert_eq!(res, [4e-3, 2e-3]);
+    // The tip sags under gravity.
+    assert!(
+        runs.iter().all(|r| r["value"].as_f64().unwrap() < 0.0),
+        "{runs:?}"
+    );
+    // A field the probe does not sample is named with the ones it does.
+    let bad = sph(
+        &dir,
+        &[
+            "converge",
+            "beam.toml",
+            "--quantity",
+            "probe:tip:von_mises:max",
+            "--tolerance",
+            "50%",
+            "--start",
+            "4e-3",
+            "--levels",
+            "2",
+            "--threads",
+            "1",
+        ],
+    );
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert_ne!(bad.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("samples no such field") && err.contains("displacement"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

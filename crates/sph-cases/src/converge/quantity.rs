@@ -58,14 +58,16 @@ impl Statistic {
 pub enum Quantity {
     /// A number of the summary.
     Summary(String),
-    /// A probe's position or velocity component, reduced.
+    /// A component of a probe's position, velocity or sampled field (`displacement`,
+    /// `von_mises`, …), reduced.
     Probe {
         /// The probe.
         name: String,
-        /// `position` or `velocity`.
-        velocity: bool,
-        /// 0, 1, 2 for x, y, z.
-        axis: usize,
+        /// `position`, `velocity`, or a field the probe samples.
+        field: String,
+        /// The component: `[row, column]` of a matrix, `[axis]` of a vector, none of a scalar
+        /// (x, y, z = 0, 1, 2).
+        component: Vec<usize>,
         /// The reduction.
         statistic: Statistic,
     },
@@ -81,9 +83,23 @@ pub enum Quantity {
 }
 
 /// The grammar, for error messages.
-pub const GRAMMAR: &str = "a summary key (e.g. period), probe:NAME:position.x|y|z:STAT, \
-                           probe:NAME:velocity.x|y|z:STAT or series:NAME:COLUMN:STAT, STAT one \
-                           of min, max, absmax, final, mean, amplitude";
+pub const GRAMMAR: &str = "a summary key (e.g. period), probe:NAME:FIELD[.COMPONENT]:STAT (FIELD \
+                           position, velocity or a field the probe samples; COMPONENT x, y, z or \
+                           xx, xy, … for a matrix, none for a scalar) or series:NAME:COLUMN:STAT, \
+                           STAT one of min, max, absmax, final, mean, amplitude";
+
+/// `x` → `[0]`, `xy` → `[0, 1]`, `` → `[]`.
+fn component(text: &str) -> Option<Vec<usize>> {
+    text.chars()
+        .map(|c| match c {
+            'x' => Some(0),
+            'y' => Some(1),
+            'z' => Some(2),
+            _ => None,
+        })
+        .collect::<Option<Vec<usize>>>()
+        .filter(|c| c.len() <= 2)
+}
 
 impl std::str::FromStr for Quantity {
     type Err = String;
@@ -100,23 +116,17 @@ impl std::str::FromStr for Quantity {
         };
         match parts[..] {
             [key] if !key.is_empty() => Ok(Quantity::Summary(key.into())),
-            ["probe", name, field, st] if !name.is_empty() => {
-                let (kind, axis) = field
-                    .split_once('.')
-                    .ok_or_else(|| bad("a probe field is position.x|y|z or velocity.x|y|z"))?;
-                let velocity = match kind {
-                    "position" => false,
-                    "velocity" => true,
-                    _ => return Err(bad(&format!("unknown probe field `{kind}`"))),
-                };
-                let axis = ["x", "y", "z"]
-                    .iter()
-                    .position(|a| *a == axis)
-                    .ok_or_else(|| bad(&format!("unknown component `{axis}`")))?;
+            ["probe", name, field, st] if !name.is_empty() && !field.is_empty() => {
+                let (field, comp) = field.split_once('.').unwrap_or((field, ""));
+                let component =
+                    component(comp).ok_or_else(|| bad(&format!("unknown component `{comp}`")))?;
+                if matches!(field, "position" | "velocity") && component.len() != 1 {
+                    return Err(bad(&format!("{field} needs one component x, y or z")));
+                }
                 Ok(Quantity::Probe {
                     name: name.into(),
-                    velocity,
-                    axis,
+                    field: field.into(),
+                    component,
                     statistic: stat(st)?,
                 })
             }
@@ -171,8 +181,8 @@ impl Quantity {
             },
             Quantity::Probe {
                 name,
-                velocity,
-                axis,
+                field,
+                component,
                 statistic,
             } => {
                 let file = results.ok_or("the results file is needed for a probe")?;
@@ -182,12 +192,11 @@ impl Quantity {
                         file.probes.keys().cloned().collect::<Vec<_>>().join(", ")
                     )
                 })?;
-                let rows = if *velocity {
-                    &p.velocities
-                } else {
-                    &p.positions
+                let v: Vec<f64> = match field.as_str() {
+                    "position" => p.positions.iter().map(|r| r[component[0]]).collect(),
+                    "velocity" => p.velocities.iter().map(|r| r[component[0]]).collect(),
+                    _ => field_component(p, name, field, component)?,
                 };
-                let v: Vec<f64> = rows.iter().map(|r| r[*axis]).collect();
                 Ok(statistic.of(&v))
             }
             Quantity::Series {
@@ -214,6 +223,49 @@ impl Quantity {
     }
 }
 
+/// The history of one component of a field a probe samples (shape `[k]`, `[k, 3]` or
+/// `[k, 3, 3]`).
+fn field_component(
+    p: &sph_output::Probe,
+    name: &str,
+    field: &str,
+    component: &[usize],
+) -> Result<Vec<f64>, String> {
+    let sampled: Vec<&str> = p
+        .fields
+        .iter()
+        .map(|d| d.name.as_str())
+        .filter(|n| *n != "time")
+        .collect();
+    let d = p.field(field).ok_or_else(|| {
+        format!(
+            "--quantity probe:{name}:{field}: the probe samples no such field; it has position, \
+             velocity{}",
+            sampled.iter().map(|f| format!(", {f}")).collect::<String>()
+        )
+    })?;
+    let shape = d.data.shape();
+    let sph_output::DatasetData::F64 { values, .. } = &d.data else {
+        return Err(format!(
+            "--quantity probe:{name}:{field}: not a real-valued field"
+        ));
+    };
+    let per: usize = shape[1..].iter().product();
+    let offset = match (shape.len(), component) {
+        (1, []) => 0,
+        (2, [i]) => *i,
+        (3, [i, j]) => i * shape[2] + j,
+        _ => {
+            return Err(format!(
+                "--quantity probe:{name}:{field}: {} component(s) given for a field of shape \
+                 {shape:?} (none for a scalar, x|y|z for a vector, xx|xy|… for a matrix)",
+                component.len()
+            ))
+        }
+    };
+    Ok(values.chunks(per.max(1)).map(|row| row[offset]).collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -228,11 +280,19 @@ mod tests {
             "probe:tip:position.y:min".parse::<Quantity>().unwrap(),
             Quantity::Probe {
                 name: "tip".into(),
-                velocity: false,
-                axis: 1,
+                field: "position".into(),
+                component: vec![1],
                 statistic: Statistic::Min
             }
         );
+        assert!(matches!(
+            "probe:tip:stress.xy:final".parse::<Quantity>().unwrap(),
+            Quantity::Probe { component, .. } if component == [0, 1]
+        ));
+        assert!(matches!(
+            "probe:tip:von_mises:max".parse::<Quantity>().unwrap(),
+            Quantity::Probe { component, .. } if component.is_empty()
+        ));
         assert!(matches!(
             "series:punch:reaction_y:absmax"
                 .parse::<Quantity>()
@@ -245,7 +305,7 @@ mod tests {
         for (bad, why) in [
             ("", "not of that form"),
             ("probe:tip:position.w:min", "unknown component `w`"),
-            ("probe:tip:accel.x:min", "unknown probe field `accel`"),
+            ("probe:tip:position:min", "position needs one component"),
             ("series:punch:fy:median", "unknown statistic `median`"),
             ("probe:tip:min", "not of that form"),
         ] {

@@ -98,11 +98,17 @@ pub(super) fn argument_error(e: clap::Error) -> ExitCode {
 
 /// The first line of a clap error, with a pointer to `--help` in place of its usage text.
 fn one_line(rendered: &str) -> String {
-    let first = rendered
-        .lines()
-        .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("error: invalid arguments");
+    let mut lines = rendered.lines().map(str::trim).skip_while(|l| l.is_empty());
+    let first = lines.next().unwrap_or("error: invalid arguments");
+    // A first line that ends in a colon lists what it is about on the lines after it (the
+    // missing required arguments): those join it.
+    let first = match first.strip_suffix(':') {
+        Some(head) => {
+            let list: Vec<&str> = lines.take_while(|l| !l.is_empty()).collect();
+            format!("{head}: {}", list.join(", "))
+        }
+        None => first.to_string(),
+    };
     let first = first.trim_end_matches('.');
     let first = if first.starts_with("error:") {
         first.to_string()
@@ -124,6 +130,14 @@ mod tests {
             one_line(text),
             "error: invalid value '-1' for '--threads <THREADS>': invalid digit found in string \
              (see `sph --help`)"
+        );
+        assert_eq!(
+            one_line(
+                "error: the following required arguments were not provided:\n  --tolerance \
+                 <TOLERANCE>\n  --quantity <QUANTITY>\n\nUsage: sph converge\n"
+            ),
+            "error: the following required arguments were not provided: --tolerance \
+             <TOLERANCE>, --quantity <QUANTITY> (see `sph --help`)"
         );
         assert_eq!(
             one_line("\n  unexpected argument\n\nUsage: sph run\n"),

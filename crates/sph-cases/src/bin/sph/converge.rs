@@ -147,6 +147,11 @@ fn subject(a: &ConvergeArgs, method: Option<&str>) -> Result<(Subject, Refinemen
                 return Err(e);
             }
             let spacings: Vec<f64> = scene.spec().bodies.iter().map(|b| b.get_ref().dp).collect();
+            let dp_parameter = scene
+                .parameters()
+                .iter()
+                .find(|(k, _)| k == "dp")
+                .and_then(|(_, v)| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)));
             Ok((
                 Subject::Scene {
                     file,
@@ -154,8 +159,9 @@ fn subject(a: &ConvergeArgs, method: Option<&str>) -> Result<(Subject, Refinemen
                     method: scene.method().to_string(),
                     set: a.set.clone(),
                     spacings: spacings.clone(),
+                    dp_parameter,
                 },
-                converge::scene_refinement(&spacings),
+                converge::scene_refinement(&spacings, dp_parameter),
             ))
         }
     }
