@@ -87,7 +87,7 @@ pub fn estimated_steps(case: &str, method: &str, set: &[String]) -> Option<f64> 
         .filter(|n| n.is_finite() && *n > 0.0)
 }
 
-fn sph_binary() -> Result<PathBuf, String> {
+pub(crate) fn sph_binary() -> Result<PathBuf, String> {
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let sph = exe.with_file_name("sph");
     if sph.is_file() {

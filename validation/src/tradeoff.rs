@@ -54,6 +54,7 @@ fn without_step_limit(set: &[String]) -> Vec<String> {
 pub mod advice_data;
 mod catalogue;
 mod estimates;
+mod example;
 mod report;
 
 use catalogue::{scenes, sweeps, Line, Measure, Scene, Sweep};
@@ -137,6 +138,9 @@ pub fn run_all(sel: Selection) -> Result<(), String> {
                 )?;
             }
         }
+    }
+    if !sel.quick && wanted("example") {
+        example::run_all(sel.force)?;
     }
     for sweep in sweeps().into_iter().filter(|s| wanted(s.key)) {
         let values = if sel.quick { sweep.quick } else { sweep.full };

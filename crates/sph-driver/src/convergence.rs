@@ -6,8 +6,13 @@
 //! fitted as `f(h) = f₀ + α hᵖ` in the manner of the grid convergence index (Roache 1998) and
 //! of the least-squares procedure of Eça & Hoekstra (2014, J. Comput. Phys. 262, 104–130):
 //!
+//! The estimate rests on the finest [`FITTED_LEVELS`] levels (four): a longer ladder's coarser
+//! levels are reported but not fitted, because they are the least likely to be in the
+//! asymptotic range (a ladder started coarse would otherwise never verify one power law), and
+//! because the factors below are calibrated on ladders of three and four levels.
+//!
 //! - **monotone ladders** (successive differences of one sign): `f₀`, `α`, `p` by least squares
-//!   over every level (exact through three); `δ = |f_n − f₀|` is the estimated error of the
+//!   over those levels (exact through three); `δ = |f_n − f₀|` is the estimated error of the
 //!   finest run and `U_s` the standard deviation of the fit (zero for three levels). The
 //!   uncertainty is `U = F_s δ + U_s` for an observed order in `[0.95, 2.05)`; below it,
 //!   `min(F_s δ + U_s, F_s Δ_M)` (`Δ_M`, the spread of the values: a slow order extrapolates
@@ -30,6 +35,8 @@ use serde::{Deserialize, Serialize};
 
 pub mod ladder;
 
+/// How many of the finest levels an estimate fits (the calibrated ladder length).
+pub const FITTED_LEVELS: usize = 4;
 /// The order assumed for a two-level estimate.
 pub const ASSUMED_ORDER: f64 = 1.0;
 /// The observed orders trusted as they are: `[lo, hi)` (Eça & Hoekstra).
@@ -243,6 +250,8 @@ pub fn estimate_with(samples: &[Sample], factors: &Factors) -> Result<Estimate, 
     if let Some(w) = s.windows(2).find(|w| w[0].spacing == w[1].spacing) {
         return Err(EstimateError::RepeatedSpacing(w[0].spacing));
     }
+    // The finest levels only (see the module documentation).
+    let s = s.split_off(s.len().saturating_sub(FITTED_LEVELS));
     let n = s.len();
     let finest = s[n - 1].value;
     if finest == 0.0 {
@@ -430,6 +439,20 @@ mod tests {
         );
         let e = estimate(&s).unwrap();
         assert!(!e.asymptotic, "{e:?}");
+    }
+
+    /// A ladder started coarse: its coarse levels off the power law do not spoil the estimate,
+    /// which is that of its finest four levels.
+    #[test]
+    fn a_long_ladder_is_estimated_from_its_finest_four_levels() {
+        let f = |h: f64| 1.0 + 0.3 * h + if h > 0.5 { 0.4 * h * h } else { 0.0 };
+        let long = ladder(f, &[3.2, 1.6, 0.8, 0.4, 0.2, 0.1, 0.05]);
+        let e = estimate(&long).unwrap();
+        assert_eq!(e, estimate(&long[3..]).unwrap());
+        assert!(
+            e.asymptotic && (e.order.unwrap() - 1.0).abs() < 1e-3,
+            "{e:?}"
+        );
     }
 
     /// Two levels: the order is assumed, not observed.

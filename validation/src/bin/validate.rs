@@ -106,7 +106,7 @@ enum Command {
         #[arg(long)]
         force: bool,
         /// Only the scenes/sweeps whose key starts with this (plate, homog, cantilever, lame,
-        /// rings, column, features)
+        /// rings, column, features, example: `sph converge` on an example scene file)
         #[arg(long)]
         only: Option<String>,
     },

@@ -140,7 +140,7 @@ pub(super) fn section(md: &mut String) -> bool {
          of {v} when the ladder is verified asymptotic — monotone, an observed order in \
          [0.95, 2.05), and from four levels on, the finest three agreeing with the whole \
          ladder's order within {a:.0} % — and {u} otherwise; oscillating values never meet a \
-         tolerance). Here it is calibrated on the stored runs of the scenes above, whose true \
+         tolerance; a ladder of more than four levels is estimated from its finest four). Here it is calibrated on the stored runs of the scenes above, whose true \
          errors are known: every window of 3 and of 4 consecutive stored resolutions of a \
          method is a ladder as `sph converge` sees it after that many levels. *Estimate* is \
          its estimate of the finest level's error; *true* that level's error against the \
@@ -224,5 +224,6 @@ pub(super) fn section(md: &mut String) -> bool {
         .unwrap();
     }
     writeln!(md, "\n</details>\n").unwrap();
+    super::example::section(md);
     true
 }
