@@ -244,6 +244,19 @@ pub(super) fn section(md: &mut String) -> bool {
             },
         )
         .unwrap();
+        let limit_bias = value / exact - 1.0;
+        if limit_bias.abs() > estimate {
+            writeln!(
+                md,
+                "The estimate covers the discretisation error only: {}'s limit on this scene lies \
+                 {} from {}, more than the estimate, a bias of the method here that no ladder of \
+                 its own runs can see (compare methods, or a case with a reference, to find one).\n",
+                l.method.to_uppercase(),
+                pct(limit_bias),
+                l.reference.1
+            )
+            .unwrap();
+        }
     }
     true
 }
