@@ -171,8 +171,6 @@ pub fn advise(
     tolerance: f64,
 ) -> Option<Advice> {
     let (kind, dimension) = class_of(case)?;
-    let runs_methods =
-        |s: &StoredScene| s.runs.iter().any(|r| methods.contains(&r.method.as_str()));
     let (scene, confidence, why) = if let Some(s) = data.scenes.iter().find(|s| s.case == case) {
         let key = |a: &String| a.split('=').next().unwrap_or("").trim().to_string();
         let changed: Vec<String> = set
@@ -210,39 +208,7 @@ pub fn advise(
             )
         }
     } else {
-        // The nearest class: same kind, preferring a scene that runs one of the case's methods
-        // (a suggestion needs one), then the same dimension.
-        let mut best: Option<(&StoredScene, u32)> = None;
-        for s in data.scenes.iter().filter(|s| s.kind == kind) {
-            let score = u32::from(runs_methods(s)) * 2 + u32::from(s.dimension == dimension);
-            if best.is_none_or(|(_, b)| score > b) {
-                best = Some((s, score));
-            }
-        }
-        let (s, score) = best?;
-        let confidence = if score == 3 {
-            Confidence::Medium
-        } else {
-            Confidence::Low
-        };
-        (
-            s,
-            confidence,
-            format!(
-                "no stored runs of {case}: the nearest stored scene of the same kind ({kind}{}{}), \
-                 whose errors at a resolution may differ",
-                if s.dimension == dimension {
-                    ", same dimension"
-                } else {
-                    ", another dimension"
-                },
-                if runs_methods(s) {
-                    ", same methods"
-                } else {
-                    ", other methods"
-                }
-            ),
-        )
+        return nearest(data, case, kind, dimension, methods, tolerance);
     };
     // Only the methods the case runs.
     let mut usable = scene.clone();
@@ -256,6 +222,126 @@ pub fn advise(
         run,
         resolution_key: scene.resolution_key.clone(),
     })
+}
+
+/// The advice for a problem without stored runs of its own (`subject` names it in the
+/// reasons): the nearest stored scene of the same `kind`, preferring one that runs one of
+/// `methods` (a suggestion needs one), then the same dimension; if no scene of the kind runs
+/// them, the nearest that does (low confidence). `None` if no stored scene runs any of
+/// `methods` or resembles the kind.
+pub fn nearest(
+    data: &TradeoffData,
+    subject: &str,
+    kind: &str,
+    dimension: u32,
+    methods: &[&str],
+    tolerance: f64,
+) -> Option<Advice> {
+    let runs_methods =
+        |s: &StoredScene| s.runs.iter().any(|r| methods.contains(&r.method.as_str()));
+    let mut best: Option<(&StoredScene, u32)> = None;
+    for s in data.scenes.iter() {
+        // The methods first (a suggestion needs them), then the kind, then the dimension.
+        let score = u32::from(runs_methods(s)) * 4
+            + u32::from(s.kind == kind) * 2
+            + u32::from(s.dimension == dimension);
+        if (s.kind == kind || runs_methods(s)) && best.is_none_or(|(_, b)| score > b) {
+            best = Some((s, score));
+        }
+    }
+    let (scene, score) = best?;
+    let confidence = if score == 7 {
+        Confidence::Medium
+    } else {
+        Confidence::Low
+    };
+    let why = if scene.kind == kind {
+        format!(
+            "no stored runs of {subject}: the nearest stored scene of the same kind ({kind}{}{}), \
+             whose errors at a resolution may differ",
+            if scene.dimension == dimension {
+                ", same dimension"
+            } else {
+                ", another dimension"
+            },
+            if runs_methods(scene) {
+                ", same methods"
+            } else {
+                ", other methods"
+            }
+        )
+    } else {
+        format!(
+            "no stored runs of {subject}, and no stored scene of its kind ({kind}) runs its \
+             methods: the nearest that does ({}, {}), a different problem whose errors at a \
+             resolution may differ widely",
+            scene.kind,
+            if scene.dimension == dimension {
+                "same dimension"
+            } else {
+                "another dimension"
+            }
+        )
+    };
+    let mut usable = scene.clone();
+    usable.runs.retain(|r| methods.contains(&r.method.as_str()));
+    let run = usable.cheapest(tolerance).cloned();
+    Some(Advice {
+        scene: scene.key.clone(),
+        title: scene.title.clone(),
+        confidence,
+        why,
+        run,
+        resolution_key: scene.resolution_key.clone(),
+    })
+}
+
+/// Particles across the thinnest part of each stored scene's body per unit of its refinement
+/// value, and whether the value is a spacing (across = factor / value) or a count (across =
+/// factor × value). From the cases' geometry: the plates, the punching strip and the cantilever
+/// refine by H/dp across their height; the Lamé ring (inner radius 1.5 m, outer 4 m, fixed in
+/// the stored runs) by its spacing across a 2.5 m wall; the Hertz ball by R/dp across its
+/// diameter.
+const ACROSS: &[(&str, f64, bool)] = &[
+    ("plate2d", 1.0, false),
+    ("homog", 1.0, false),
+    ("cantilever", 1.0, false),
+    ("lame", 2.5, true),
+    ("hertz", 2.0, false),
+    ("plate3d", 1.0, false),
+];
+
+/// Particles across the thinnest part of the body of stored scene `key` at refinement value
+/// `resolution` (`None` for a scene not in the table).
+pub fn particles_across(key: &str, resolution: f64) -> Option<f64> {
+    let &(_, factor, spacing) = ACROSS.iter().find(|a| a.0 == key)?;
+    Some(if spacing {
+        factor / resolution
+    } else {
+        factor * resolution
+    })
+}
+
+/// The kind of problem a scene file holds, as the stored scenes are classed: rigid tools or a
+/// constraint that prescribes a velocity drive it (`compression`); else a pressure load
+/// (`pressure`); else a quasi-static relaxation (`static`); else two or more bodies meet
+/// (`impact`); else it is left to move (`vibration`).
+pub fn scene_kind(spec: &sph_scene::spec::SceneSpec) -> &'static str {
+    let driven = spec.constraints.iter().any(|c| {
+        let c = c.get_ref();
+        c.kind != "fixed" && c.velocity.iter().flatten().any(|&v| v != 0.0)
+    });
+    if !spec.tools.is_empty() || driven {
+        "compression"
+    } else if spec.loads.iter().any(|l| l.get_ref().kind == "pressure") {
+        "pressure"
+    } else if spec.relaxation.is_some() {
+        "static"
+    } else if spec.bodies.len() > 1 {
+        "impact"
+    } else {
+        "vibration"
+    }
 }
 
 #[cfg(test)]
@@ -274,6 +360,36 @@ mod tests {
                 "{name}: no stored scene of kind {kind}"
             );
         }
+    }
+
+    /// Every stored scene says how many particles its thinnest part has at a resolution.
+    #[test]
+    fn every_stored_scene_has_its_particles_across() {
+        for s in stored().scenes {
+            let r = s.runs[0].resolution;
+            let n = particles_across(&s.key, r).unwrap_or_else(|| panic!("{}", s.key));
+            assert!(n >= 2.0, "{}: {n} across at {r}", s.key);
+        }
+        assert_eq!(particles_across("hertz", 10.0), Some(20.0));
+        assert_eq!(particles_across("lame", 0.1), Some(25.0));
+    }
+
+    /// A problem with no scene of its kind running its methods falls back to a scene that
+    /// runs them, with low confidence, and says so.
+    #[test]
+    fn a_kind_without_the_methods_falls_back_to_a_scene_that_runs_them() {
+        let data = stored();
+        // The stored pressure scene runs MPS only.
+        let a = nearest(&data, "ring.toml", "pressure", 2, &["mps"], 0.05).unwrap();
+        assert_eq!(
+            (a.scene.as_str(), a.confidence),
+            ("lame", Confidence::Medium)
+        );
+        let b = nearest(&data, "ring.toml", "pressure", 2, &["tl-hf"], 0.05).unwrap();
+        assert_eq!(b.confidence, Confidence::Low);
+        assert!(b.run.iter().all(|r| r.method == "tl-hf"), "{b:?}");
+        assert!(b.why.contains("no stored scene of its kind"), "{}", b.why);
+        assert!(nearest(&data, "x", "pressure", 2, &["no-such-method"], 0.05).is_some());
     }
 
     /// A stored case asked about with its stored settings gets its own cheapest run, with

@@ -144,6 +144,18 @@ impl Subject {
     }
 }
 
+/// A scene's spacings, body by body, and its parameter `dp` if it has one (overrides applied):
+/// what [`scene_refinement`] and [`scene_level_sets`] take.
+pub fn scene_spacings(scene: &sph_scene::Scene) -> (Vec<f64>, Option<f64>) {
+    let spacings = scene.spec().bodies.iter().map(|b| b.get_ref().dp).collect();
+    let dp_parameter = scene
+        .parameters()
+        .iter()
+        .find(|(k, _)| k == "dp")
+        .and_then(|(_, v)| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)));
+    (spacings, dp_parameter)
+}
+
 /// How a scene refines: its parameter `dp`, else the spacing of its finest body (every body's
 /// spacing scales with it).
 pub fn scene_refinement(spacings: &[f64], dp_parameter: Option<f64>) -> Refinement {
@@ -153,6 +165,27 @@ pub fn scene_refinement(spacings: &[f64], dp_parameter: Option<f64>) -> Refineme
         whole: false,
         default: dp_parameter
             .unwrap_or_else(|| spacings.iter().copied().fold(f64::INFINITY, f64::min)),
+    }
+}
+
+/// The `--set` assignments (`KEY=VALUE`) that give a scene the spacing `value` of its
+/// refinement `r` ([`scene_refinement`]): its parameter `dp` when it has one (every value
+/// written with `${dp}` follows), else every body's spacing scaled by one factor.
+pub fn scene_level_sets(
+    spacings: &[f64],
+    dp_parameter: Option<f64>,
+    r: &Refinement,
+    value: f64,
+) -> Vec<String> {
+    if dp_parameter.is_some() {
+        vec![format!("dp={value:?}")]
+    } else {
+        let scale = value / r.default;
+        spacings
+            .iter()
+            .enumerate()
+            .map(|(k, dp)| format!("body[{k}].dp={:?}", dp * scale))
+            .collect()
     }
 }
 
@@ -231,14 +264,8 @@ impl Runner {
                 for s in set {
                     a.extend(["--set".into(), s.clone()]);
                 }
-                if dp_parameter.is_some() {
-                    a.extend(["--set".into(), format!("dp={value:?}")]);
-                } else {
-                    // Every body refined by the same factor.
-                    let scale = value / r.default;
-                    for (k, dp) in spacings.iter().enumerate() {
-                        a.extend(["--set".into(), format!("body[{k}].dp={:?}", dp * scale)]);
-                    }
+                for s in scene_level_sets(spacings, *dp_parameter, r, value) {
+                    a.extend(["--set".into(), s]);
                 }
             }
         }

@@ -313,15 +313,8 @@ fn advise_suggests_the_cheapest_stored_run() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// A scene whose bodies take their spacing from a `[parameters]` entry `dp` is refined through
-/// that parameter (one `--set dp=…` per level, every `${dp}` following), and a probe's sampled
-/// field is a quantity (`probe:NAME:FIELD.COMPONENT:STAT`).
-#[test]
-fn a_scene_refines_through_its_dp_parameter_and_reads_a_probe_field() {
-    let dir = scratch("scene");
-    std::fs::write(
-        dir.join("beam.toml"),
-        r#"name = "beam"
+/// A beam under gravity whose spacing is its parameter `dp` (4 particles across its 16 mm).
+const BEAM: &str = r#"name = "beam"
 dimension = 2
 method = "tl"
 end_time = 2e-3
@@ -355,9 +348,15 @@ acceleration = [0.0, -9.81]
 name = "tip"
 at = [0.08, 0.0]
 fields = ["displacement"]
-"#,
-    )
-    .unwrap();
+"#;
+
+/// A scene whose bodies take their spacing from a `[parameters]` entry `dp` is refined through
+/// that parameter (one `--set dp=…` per level, every `${dp}` following), and a probe's sampled
+/// field is a quantity (`probe:NAME:FIELD.COMPONENT:STAT`).
+#[test]
+fn a_scene_refines_through_its_dp_parameter_and_reads_a_probe_field() {
+    let dir = scratch("scene");
+    std::fs::write(dir.join("beam.toml"), BEAM).unwrap();
     let out = sph(
         &dir,
         &[
@@ -420,5 +419,68 @@ fields = ["displacement"]
         err.contains("samples no such field") && err.contains("displacement"),
         "{err}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `sph advise` on a scene file: the kind read from what it holds (a beam left to swing under
+/// gravity: vibration), its thinnest body measured from its particles (16 mm), the nearest
+/// stored scene (the 2D plate, medium confidence) and the spacing that gives the beam the
+/// suggested run's particles across (TL at H/dp 20 for 3 %: dp = 16 mm / 20), through the
+/// file's parameter `dp`; a method the scene cannot take is one line.
+#[test]
+fn advise_on_a_scene_file_sizes_its_spacing_from_its_thinnest_body() {
+    let dir = scratch("advise-scene");
+    std::fs::write(dir.join("beam.toml"), BEAM).unwrap();
+    let out = sph(
+        &dir,
+        &[
+            "advise",
+            "beam.toml",
+            "--tolerance",
+            "3%",
+            "--summary",
+            "a.json",
+        ],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(text.contains("a vibration problem"), "{text}");
+    assert!(text.contains("--method tl --set dp=0.0008"), "{text}");
+    let a = json(&dir.join("a.json"));
+    assert_eq!(a["scene"], "plate2d");
+    assert_eq!(a["confidence"], "medium");
+    assert_eq!(a["kind"], "vibration");
+    let t = a["bodies"][0]["thickness"].as_f64().unwrap();
+    assert!((t - 0.016).abs() < 1e-12, "{t}");
+    assert_eq!(a["particles_across"], 20.0);
+    assert_eq!(a["set"][0], "dp=0.0008");
+    assert!(a["predicted_cpu_seconds"].as_f64().unwrap() > 0.0);
+    // Every method takes a beam under gravity.
+    assert_eq!(
+        a["methods"].as_array().unwrap().len(),
+        7,
+        "{}",
+        a["methods"]
+    );
+    let out = sph(
+        &dir,
+        &[
+            "advise",
+            "beam.toml",
+            "--tolerance",
+            "3%",
+            "--method",
+            "fem",
+        ],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("--method fem: allowed values are"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -105,6 +105,104 @@ pub fn surface_of<D: Dim>(
     Ok(out)
 }
 
+/// The thickness of a body from its particles (spacing `dp`): the diameter of the largest ball
+/// (disc in 2D) inside it, the "particles across" that sets a resolution (a plate's height, a
+/// ring's wall, a ball's diameter).
+///
+/// The depth of a point below the surface is its distance to the nearest surface particle (one
+/// with fewer neighbours than the interior) plus `dp/2` (the surface lies half a spacing outside the
+/// surface layer); the thickness is twice the largest depth over the particles and the
+/// midpoints of nearest-neighbour pairs (so that a body of an even number of layers has its
+/// middle sampled), and at most the smallest extent of the particles' bounding box plus `dp`
+/// (a single layer, whose particles have no one-sided neighbourhood). Exact for a lattice slab
+/// of any number of layers, within `dp` for curved bodies.
+///
+/// ```
+/// use sph_core::generate::{Aabb, Lattice, ParticleSet};
+/// use sph_core::surface::thickness;
+/// use sph_core::{glam::DVec2, D2};
+///
+/// let dp = 1e-3;
+/// let plate = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(0.02, 0.004))?;
+/// let set = ParticleSet::fill(&Lattice::new(dp, DVec2::ZERO)?, &plate)?;
+/// assert!((thickness::<D2>(set.positions(), dp)? - 0.004).abs() < 1e-12);
+/// # Ok::<(), sph_core::Error>(())
+/// ```
+///
+/// # Errors
+/// No particles, a spacing that is not positive, or non-finite positions.
+pub fn thickness<D: Dim>(positions: &[D::Vector], dp: f64) -> Result<f64, Error> {
+    check_positive("dp", dp)?;
+    if positions.is_empty() {
+        return Err(Error::invalid("particles", 0, "at least one"));
+    }
+    // Surface sites: particles with fewer neighbours within 1.5 dp than three quarters of the
+    // body's interior count (its 95th percentile: 8 on a 2D lattice, 18 in 3D; an edge particle
+    // has 5 or 13). Unlike `surface_of`'s cone, this does not take the second layer of a
+    // staircase (a lattice-filled curve) for surface.
+    let near = CellGrid::<D>::build(positions, SCAN_RADIUS * dp)?;
+    let scan2 = (SCAN_RADIUS * dp).powi(2);
+    let counts: Vec<u32> = positions
+        .iter()
+        .enumerate()
+        .map(|(i, &xi)| {
+            let mut n = 0;
+            near.for_each_candidate_at(xi, |j, xj| {
+                n += u32::from(j as usize != i && D::norm_squared(xj - xi) < scan2);
+            });
+            n
+        })
+        .collect();
+    let mut sorted = counts.clone();
+    sorted.sort_unstable();
+    let interior = f64::from(sorted[(0.95 * (sorted.len() - 1) as f64) as usize]);
+    let sites: Vec<D::Vector> = positions
+        .iter()
+        .zip(&counts)
+        .filter(|&(_, &n)| f64::from(n) < 0.75 * interior)
+        .map(|(&x, _)| x)
+        .collect();
+    if sites.is_empty() {
+        // Too few particles for any to have fewer neighbours than the rest: one spacing.
+        return Ok(dp);
+    }
+    // A kd-tree of the sites (2D points padded with z = 0).
+    let padded = |x: D::Vector| -> [f64; 3] {
+        std::array::from_fn(|k| if k < D::D { D::component(x, k) } else { 0.0 })
+    };
+    let points: Vec<[f64; 3]> = sites.iter().map(|&x| padded(x)).collect();
+    let tree = kiddo::ImmutableKdTree::<f64, 3>::new_from_slice(&points)
+        .map_err(|e| Error::invalid("surface particles", format!("{e:?}"), "a kd-tree"))?;
+    let bounds = CellGrid::<D>::build(positions, 1.1 * dp)?;
+    // The depth of `x`: its distance to the nearest surface site plus half a spacing.
+    let depth = |x: D::Vector| -> f64 {
+        let nearest = tree
+            .query(&padded(x))
+            .nearest_one::<kiddo::SquaredEuclidean<f64>>()
+            .execute();
+        nearest.distance.sqrt() + 0.5 * dp
+    };
+    let mut deepest = 0.0f64;
+    let near2 = (1.1 * dp) * (1.1 * dp);
+    for (i, &xi) in positions.iter().enumerate() {
+        deepest = deepest.max(depth(xi));
+        bounds.for_each_candidate_at(xi, |j, xj| {
+            if (j as usize) > i && D::norm_squared(xj - xi) < near2 {
+                deepest = deepest.max(depth((xi + xj) * 0.5));
+            }
+        });
+    }
+    // A single layer has no one-sided neighbourhood (no surface particle but its ends): no
+    // body is thicker than its bounding box's smallest extent and a spacing.
+    let extent = (0..D::D)
+        .map(|k| {
+            let c = positions.iter().map(|&x| D::component(x, k));
+            c.clone().fold(f64::NEG_INFINITY, f64::max) - c.fold(f64::INFINITY, f64::min)
+        })
+        .fold(f64::INFINITY, f64::min);
+    Ok((2.0 * deepest).min(extent + dp))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -148,6 +246,40 @@ mod tests {
             // The polar layers are not exactly symmetric about each particle: within 2°.
             assert!(p.normal.dot(radial * sign) > 2f64.to_radians().cos(), "{x}");
         }
+    }
+
+    /// A lattice slab of an even or odd number of layers is exactly its height; a ring its
+    /// wall, a ball its diameter (within a spacing: the surface layer of a curved body is not
+    /// at exactly dp/2 from the surface).
+    #[test]
+    fn thickness_is_the_thinnest_extent_of_a_slab_the_wall_of_a_ring_the_diameter_of_a_ball() {
+        let dp = 1.0;
+        let lattice2 = Lattice::new(dp, DVec2::ZERO).unwrap();
+        for layers in [1.0, 2.0, 3.0, 4.0, 7.0] {
+            let b = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(20.0, layers)).unwrap();
+            let set = ParticleSet::fill(&lattice2, &b).unwrap();
+            let t = thickness::<D2>(set.positions(), dp).unwrap();
+            assert!((t - layers).abs() < 1e-9, "{layers} layers: {t}");
+        }
+        let b = Aabb::<D3>::new(DVec3::ZERO, DVec3::new(8.0, 5.0, 4.0)).unwrap();
+        let set = ParticleSet::fill(&Lattice::new(dp, DVec3::ZERO).unwrap(), &b).unwrap();
+        let t = thickness::<D3>(set.positions(), dp).unwrap();
+        assert!((t - 4.0).abs() < 1e-9, "{t}");
+        let ring = annulus_polar(DVec2::ZERO, 1.0, 2.0, 0.1).unwrap();
+        let t = thickness::<D2>(ring.positions(), 0.1).unwrap();
+        assert!((t - 1.0).abs() < 0.1, "ring wall: {t}");
+        let disc = ParticleSet::fill(
+            &Lattice::new(0.1, DVec2::splat(-1.0)).unwrap(),
+            &crate::generate::FnShape::<D2, _>::new(
+                (DVec2::splat(-1.0), DVec2::ONE),
+                |x: DVec2| x.length() <= 1.0,
+            ),
+        )
+        .unwrap();
+        let t = thickness::<D2>(disc.positions(), 0.1).unwrap();
+        assert!((t - 2.0).abs() < 0.1, "disc: {t}");
+        assert!(thickness::<D2>(&[], dp).is_err());
+        assert!(thickness::<D2>(&[DVec2::ZERO], 0.0).is_err());
     }
 
     #[test]

@@ -86,6 +86,19 @@ impl std::fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
+/// A body's size as built ([`Scene::body_thicknesses`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyThickness {
+    /// The body's name.
+    pub name: String,
+    /// Its particle spacing.
+    pub dp: f64,
+    /// Its particles.
+    pub particles: usize,
+    /// The diameter of the largest ball (disc in 2D) inside it (m).
+    pub thickness: f64,
+}
+
 /// A parsed scene, ready to run.
 #[derive(Clone, Debug)]
 pub struct Scene {
@@ -246,6 +259,46 @@ impl Scene {
     /// The scene as parsed (overrides and parameters applied): its bodies, loads, tools, …
     pub fn spec(&self) -> &SceneSpec {
         &self.spec
+    }
+
+    /// Each body's spacing, particle count and thickness (the diameter of the largest ball or
+    /// disc inside it, [`sph_core::surface::thickness`]: a plate's height, a ring's wall), from
+    /// its particles as the scene builds them, without running: what sets the resolution a
+    /// body needs (`sph advise`).
+    ///
+    /// # Errors
+    /// What building the bodies finds wrong (as [`Scene::run`] would, before it runs).
+    pub fn body_thicknesses(&self) -> Result<Vec<BodyThickness>, SceneError> {
+        match *self.spec.dimension.get_ref() {
+            2 => self.body_thicknesses_in::<D2>(),
+            3 => self.body_thicknesses_in::<D3>(),
+            d => Err(self.error(
+                self.spec.dimension.span(),
+                "dimension",
+                format!("{d}: allowed values are 2 (plane strain) and 3"),
+            )),
+        }
+    }
+
+    fn body_thicknesses_in<D: SceneDim>(&self) -> Result<Vec<BodyThickness>, SceneError> {
+        self.spec
+            .bodies
+            .iter()
+            .enumerate()
+            .map(|(k, b)| {
+                let (part, _) = self.body::<D>(k, b)?;
+                self.check_body_size(k, b, &part)?;
+                let dp = b.get_ref().dp;
+                let thickness = sph_core::surface::thickness::<D>(part.positions(), dp)
+                    .map_err(|e| self.core(b.span(), &format!("body[{k}]"), e))?;
+                Ok(BodyThickness {
+                    name: b.get_ref().name.clone(),
+                    dp,
+                    particles: part.len(),
+                    thickness,
+                })
+            })
+            .collect()
     }
 
     /// Builds the scene and runs it through [`drive`] with `options`.
@@ -768,6 +821,9 @@ pub fn numerics_keys(method: &str) -> Option<Vec<&'static str>> {
     });
     Some(keys)
 }
+
+/// Every method a scene file can name (`method`, `--method`).
+pub const METHODS: &[&str] = &["tl", "tl-hf", "tl-gm", "ul-og", "ul-oas", "ul-enog", "mps"];
 
 fn family_of(method: &str) -> Option<Family> {
     match method {

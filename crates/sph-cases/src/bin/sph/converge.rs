@@ -146,12 +146,7 @@ fn subject(a: &ConvergeArgs, method: Option<&str>) -> Result<(Subject, Refinemen
             if let Some(e) = refused("dp") {
                 return Err(e);
             }
-            let spacings: Vec<f64> = scene.spec().bodies.iter().map(|b| b.get_ref().dp).collect();
-            let dp_parameter = scene
-                .parameters()
-                .iter()
-                .find(|(k, _)| k == "dp")
-                .and_then(|(_, v)| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)));
+            let (spacings, dp_parameter) = converge::scene_spacings(&scene);
             Ok((
                 Subject::Scene {
                     file,
