@@ -55,6 +55,7 @@ pub mod advice_data;
 mod catalogue;
 mod estimates;
 mod example;
+pub mod regression;
 mod report;
 
 use catalogue::{scenes, sweeps, Line, Measure, Scene, Sweep};

@@ -59,7 +59,10 @@ pub trait Case: Sync {
     /// Name, description, methods.
     fn info(&self) -> CaseInfo;
 
-    /// The parameters with their defaults (those of the case's first method).
+    /// The parameters with the defaults every method of the case shares. A method whose paper
+    /// sets other defaults (TL-HF's own law in the oscillation cases, the MPS paper's set-up
+    /// of a case both papers run) gets them from [`Case::params_for`], as `sph run` does: run
+    /// a method with `params_for(method)`, not with these.
     fn params(&self) -> Params;
 
     /// The parameters with the defaults of `method`'s paper, where a case's method families

@@ -2,7 +2,7 @@
 //! measure of each run's error) and the severity sweeps of the stability map.
 
 /// How a run's error is measured.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 pub(super) enum Measure {
     /// `|num / den − 1|` of two summary keys (a closed form computed by the case).
     ClosedForm {
