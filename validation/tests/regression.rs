@@ -58,3 +58,31 @@ fn every_cheap_stored_trade_off_run_reproduces_its_value() {
         failures.join("\n")
     );
 }
+
+/// The cheapest stored runs of docs/validation.md (solver time at most 2.5 s as stored), each
+/// re-run through the library: every physics figure of its summary reproduces (tolerance as
+/// above), its status too.
+#[test]
+fn every_cheap_stored_validation_run_reproduces_its_summary() {
+    use sph_validation::tradeoff::regression::{compare, validation_runs};
+    let runs = validation_runs(2.5);
+    assert!(runs.len() >= 4, "{} runs", runs.len());
+    let only = std::env::var("SPH_REGRESSION_ONLY").ok();
+    let mut moved = Vec::new();
+    for r in runs
+        .iter()
+        .filter(|r| only.as_ref().is_none_or(|id| *id == r.id))
+    {
+        eprintln!("{}", r.id);
+        match compare(r, 1e-6) {
+            Ok(m) => moved.extend(m),
+            Err(e) => moved.push(e),
+        }
+    }
+    assert!(
+        moved.is_empty(),
+        "a validated figure moved (re-run its `validate` subcommand with --force and \
+         regenerate the docs if the change is meant):\n{}",
+        moved.join("\n")
+    );
+}

@@ -108,3 +108,80 @@ impl Check {
         Ok((value, error))
     }
 }
+
+/// Summary keys that measure the machine, not the physics (left out of [`compare`]).
+const MACHINE_KEYS: &[&str] = &[
+    "solver_seconds",
+    "wall_seconds",
+    "particle_steps_per_second",
+    "threads",
+    "monitor",
+];
+
+/// The stored validation runs of docs/validation.md (`validation/results/*.json`) whose solver
+/// took at most `max_solver_seconds` as stored, cheapest first.
+pub fn validation_runs(max_solver_seconds: f64) -> Vec<crate::store::StoredRun> {
+    let mut runs: Vec<crate::store::StoredRun> = std::fs::read_dir(crate::store::results_dir())
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter(|e| e.path().extension().is_some_and(|x| x == "json"))
+        .filter_map(|e| serde_json::from_str(&std::fs::read_to_string(e.path()).ok()?).ok())
+        .filter(|r: &crate::store::StoredRun| {
+            r.num("solver_seconds")
+                .is_some_and(|s| s <= max_solver_seconds)
+        })
+        .collect();
+    runs.sort_by(|a, b| {
+        let s = |r: &crate::store::StoredRun| r.num("solver_seconds").unwrap_or(0.0);
+        s(a).total_cmp(&s(b)).then(a.id.cmp(&b.id))
+    });
+    runs
+}
+
+/// Re-runs a stored validation run through the library (the method's defaults, its
+/// settings, no output) and lists every physics figure of its summary that differs from the
+/// stored one by more than `tolerance` (relative; absolute below 1e-12), and a status that
+/// differs.
+///
+/// # Errors
+/// The case refuses the stored settings.
+pub fn compare(run: &crate::store::StoredRun, tolerance: f64) -> Result<Vec<String>, String> {
+    let case = find_case(&run.case).map_err(|e| e.to_string())?;
+    let mut p = case.params_for(&run.method);
+    for a in &run.set {
+        p.apply_assignment(a).map_err(|e| e.to_string())?;
+    }
+    let (_, summary) = case
+        .run(&run.method, &p, &RunOptions::default())
+        .map_err(|e| format!("{}: {e}", run.id))?;
+    let mut moved = Vec::new();
+    for (key, stored) in &run.summary {
+        if MACHINE_KEYS.contains(&key.as_str()) {
+            continue;
+        }
+        let now = summary.get(key);
+        // Stored before a run from rest had no relative energy drift (RunRecord::energy_drift):
+        // the stored value is a change relative to round-off (10¹¹ to 10³³), not a figure.
+        if key == "energy_drift"
+            && now.is_none_or(serde_json::Value::is_null)
+            && stored.as_f64().is_some_and(|e| e.abs() > 1.0)
+        {
+            continue;
+        }
+        let same = match (stored.as_f64(), now.and_then(serde_json::Value::as_f64)) {
+            (Some(a), Some(b)) => {
+                (a - b).abs() <= tolerance * a.abs().max(b.abs()).max(1e-12 / tolerance)
+            }
+            _ => Some(stored) == now || stored.is_array() || stored.is_object(),
+        };
+        if !same {
+            moved.push(format!(
+                "{}: {key} = {}, stored {stored}",
+                run.id,
+                now.map_or("(absent)".to_string(), |v| v.to_string())
+            ));
+        }
+    }
+    Ok(moved)
+}
