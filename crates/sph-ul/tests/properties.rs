@@ -223,12 +223,14 @@ fn enog_conservative_form_has_no_shear_under_rigid_rotation() {
 }
 
 /// Paper Fig. 7: the non-conservative form resists rigid rotation. A free 2D block spinning at
-/// ω = 20 rad/s (rim speed 0.03 c0) for 30 ms (0.6 rad): eq 18 loses 65% (dual) / 79% (single)
-/// of the spin angular momentum; eq 19 changes it by 1.8% (dual) / −5.7% (single). Eq 19 is not
+/// ω = 20 rad/s (rim speed 0.03 c0) for 30 ms (0.6 rad): eq 18 loses 83.2% (dual) / 83.0%
+/// (single) of the spin angular momentum; eq 19 gains 5.28% with either stepping (measured
+/// 2026-12-05; the 1.8% / −5.7% once written here predate the current stepping). Eq 19 is not
 /// exact here because the body is not in rigid rotation for long: it starts unstressed, so it
 /// stretches, and the accumulated `A_s` of eq 20 is a lab-frame vector that does not rotate with
 /// the body (the paper's eq 17 moves ∇ inside the time integral), and kernel directions are
-/// frozen over each step. Allowed: |Δ| < 10% for eq 19, and eq 18 losing ≥ 5× as much.
+/// frozen over each step. Allowed: |Δ| < 6% for eq 19 (the measured 5.28% and a margin of a
+/// tenth of it; it allowed 10% before), and eq 18 losing at least 75%, ≥ 5× as much.
 #[test]
 fn non_conservative_laplacian_brakes_a_rigid_rotation() {
     let run = |form, stepping| {
@@ -254,7 +256,8 @@ fn non_conservative_laplacian_brakes_a_rigid_rotation() {
     let loss_cs = run(LaplacianForm::Conservative, Stepping::Single);
     let loss_ns = run(LaplacianForm::NonConservative, Stepping::Single);
     println!("spin loss: eq 19 {loss_c:.3e} (single {loss_cs:.3e}), eq 18 {loss_n:.3e} (single {loss_ns:.3e})");
-    assert!(loss_c.abs() < 0.1 && loss_cs.abs() < 0.1);
+    assert!(loss_c.abs() < 0.06 && loss_cs.abs() < 0.06);
+    assert!(loss_n > 0.75 && loss_ns > 0.75);
     assert!(loss_n > 5.0 * loss_c.abs() && loss_ns > 5.0 * loss_cs.abs());
 }
 
