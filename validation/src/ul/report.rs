@@ -93,17 +93,43 @@ fn table1_section(md: &mut String) -> Result<(), String> {
         )
         .unwrap();
     }
+    // The OAS runs' distance from the paper's own OAS column (B, frame clamp).
+    let fe = crate::fem_plate::period("d2-split", "frame", 0.02, 0.3975);
+    let oas_offsets: Vec<f64> = TABLE1
+        .iter()
+        .filter_map(|&(vf, _, p_oas)| rel(period(&load(&oas_corrected_id(30, vf))), Some(p_oas)))
+        .collect();
+    let (lo, hi) = oas_offsets
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
     writeln!(
         md,
-        "**Where the paper's OAS column comes from.** The UL paper checks its ENOG periods \
-         \"with theoretical solutions and SPH-OAS from Gray et al.'s work [5]\" (§6.1): the OAS \
-         column, like the analytical 0.254, is quoted from Gray, Monaghan & Swift (2001), not \
-         computed in the paper's own set-up. It comes from another SPH code with its own kernel, \
-         resolution, clamp and time integration. Our OAS runs use the set-up of the paper's ENOG \
-         column (H/dp = 30, h = 1.3 dp, the frame clamp, the Riemann solver), so their offset \
-         from the quoted column compares two codes and two set-ups. It is reported, not held to \
-         1 %. The ENOG column is the paper's own run in this set-up; that is the one held to \
-         1 %.\n"
+        "**Where the paper's OAS column comes from.** The UL paper's own runs: its Table 1 \
+         caption says the first period \"is recorded for both SPH-ENOG and SPH-OAS with L = 0.2, \
+         H = 0.02 and H/dp = 30\", and the column changes with v_f (0.273 to 0.278), as a run \
+         does and a quoted value would not. Gray, Monaghan & Swift (2001), cited in §6.1 as \
+         \"[5]\" and the source of OAS's artificial-stress parameters, report one period for \
+         their plate, T c0/L = 82 (as the MPS paper's table quotes it): 0.288 s with this \
+         plate's c0 = 57.0 m/s, not 0.273 s. (Earlier versions of this report called the column \
+         quoted from Gray et al. and did not hold it to the target; that reading was wrong.) So \
+         the OAS column is held to 1 % like ENOG's, and our OAS runs {}: {} to {} from it with \
+         B and the frame clamp, the paper's set-up as far as it states it. The paper gives no \
+         more of its OAS set-up (ε, n of the artificial stress are Gray et al.'s; whether its \
+         OAS used B is not said); at v_f = {} our OAS period lies {} from the finite \
+         elements of this plate and the paper's {}, so the gap is in the OAS scheme's \
+         small-amplitude stiffness, not in the plate.\n",
+        if hi.abs().max(lo.abs()) <= 0.01 {
+            "meet it"
+        } else {
+            "miss it"
+        },
+        pct(Some(lo)),
+        pct(Some(hi)),
+        TABLE1[0].0,
+        pct(rel(period(&load(&oas_corrected_id(30, TABLE1[0].0))), fe)),
+        pct(rel(Some(TABLE1[0].2), fe)),
     )
     .unwrap();
     let missing: Vec<String> = TABLE1
