@@ -27,23 +27,32 @@ fn plate_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), S
     .unwrap();
     writeln!(
         md,
-        "| method | H/dp | r_e/l0 | T c0/L | vs paper 74.38 | vs theory | A/L | vs paper 0.114 | max e | status |"
+        "| method | clamp | H/dp | r_e/l0 | T c0/L | vs paper 74.38 | vs theory | A/L | vs paper 0.114 | max e | status |"
     )
     .unwrap();
-    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|").unwrap();
-    let mut rows: Vec<(String, u32, f64)> = PLATE_RES
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|").unwrap();
+    let mut rows: Vec<(String, u32, f64, &str)> = PLATE_RES
         .iter()
-        .map(|&r| ("mps".to_string(), r, 2.1))
+        .map(|&r| ("mps".to_string(), r, 2.1, "solid"))
         .collect();
     rows.extend(
         RES_RE
             .iter()
             .filter(|&&re| re != 2.1)
-            .map(|&re| ("mps".to_string(), 10, re)),
+            .map(|&re| ("mps".to_string(), 10, re, "solid")),
     );
-    rows.extend([10u32, 20].iter().map(|&r| ("tl-hf".to_string(), r, 2.1)));
-    for (m, res, re) in &rows {
-        let Some(r) = load(&plate_id(m, *res, *re)) else {
+    rows.push(("mps".to_string(), 10, 2.1, "frame"));
+    rows.extend(
+        [10u32, 20]
+            .iter()
+            .map(|&r| ("tl-hf".to_string(), r, 2.1, "solid")),
+    );
+    for (m, res, re, clamp) in &rows {
+        let id = match *clamp {
+            "solid" => plate_id(m, *res, *re),
+            other => format!("{}-{other}", plate_id(m, *res, *re)),
+        };
+        let Some(r) = load(&id) else {
             continue;
         };
         let td = r.num("period_dimensionless");
@@ -55,7 +64,7 @@ fn plate_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), S
         };
         writeln!(
             md,
-            "| {m} | {res} | {re_col} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {m} | {clamp} | {res} | {re_col} | {} | {} | {} | {} | {} | {} | {} |",
             fmt_opt(td, 2),
             pct(rel(td, Some(74.38))),
             pct(rel(td, r.num("period_dimensionless_theory"))),
@@ -67,6 +76,29 @@ fn plate_section(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), S
         .unwrap();
     }
     writeln!(md).unwrap();
+    let solid = load(&plate_id("mps", 10, 2.1)).and_then(|r| r.num("period_dimensionless"));
+    let frame = load(&format!("{}-frame", plate_id("mps", 10, 2.1)))
+        .and_then(|r| r.num("period_dimensionless"));
+    if let (Some(solid), Some(frame)) = (solid, frame) {
+        writeln!(
+            md,
+            "**The clamp.** The paper's plate is 0.24 m long and its \"outer 0.04 m segment is \
+             penetrated into the gap between upper and lower bearings, in order to provide \
+             sufficient rigidity at the cantilever support\" (§IV.D, Fig. 4): the bearings are \
+             fixed, the segment is held by them, and the text does not say it is fixed itself. \
+             That is our `frame` clamp (the bearing layers fixed, the segment's particles free \
+             between them); `solid` fixes the segment's particles too. At H/dp 10 the frame \
+             clamp's period is {} from the paper, the solid clamp's {}: the paper's numbers sit \
+             with a support at least as stiff as the solid one (a segment clamped by the bearings \
+             as the text intends), so the table uses `solid` and shows `frame` beside it; the \
+             difference between the two ({} on the period) is the root's compliance inside the \
+             bearings.\n",
+            pct(rel(Some(frame), Some(74.38))),
+            pct(rel(Some(solid), Some(74.38))),
+            pct(rel(Some(frame), Some(solid))),
+        )
+        .unwrap();
+    }
     // The distance to the thin-plate value, split into the discretisation's bending deficit and
     // the rest (the plate is not thin).
     let mut why = String::new();
