@@ -162,7 +162,7 @@ fn quasi_static_section(md: &mut String) {
         md,
         "The TL paper moves its punches at 2 mm/s and its grips at 0.1 mm/s and relaxes the \
          motion to a quasi-steady state; we move tools and grips at 2 m/s (a thousand and twenty \
-         thousand times faster: the papers' speeds would take 10⁶ to 10⁷ time steps per run) and \
+         thousand times faster: at the paper's speeds the punching strip would take about 2·10⁷ time steps and the pulled strip 2·10⁹) and \
          relax the same way. That this gives the same state is measured, not assumed: a run is \
          quasi-static when halving the loading speed changes the measured force by less than \
          1 %. Each column halves the speed of the one before; `change` is against the column \
