@@ -212,6 +212,8 @@ fn friction_resumed_runs_are_bit_identical_in_every_family() {
                 "--set",
                 "end_time=0.03",
                 "--set",
+                "ramp_time=0.01",
+                "--set",
                 "snapshot_interval=0.01",
             ],
             "0.012",
