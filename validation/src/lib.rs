@@ -5,6 +5,7 @@
 //! `target/validation-results/validation.h5` with the same tables and the plotted curves.
 #![deny(missing_docs)]
 
+pub mod contact;
 pub mod cost;
 pub mod extreme;
 pub mod features;

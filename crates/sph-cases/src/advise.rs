@@ -134,6 +134,8 @@ const CASE_CLASSES: &[(&str, &str, u32)] = &[
     ("colliding-balls-3d", "impact", 3),
     ("ball-plate-2d", "impact", 2),
     ("ball-plate-3d", "impact", 3),
+    // A body on a rigid tool, loaded slowly (gravity): nearest to the tool-compression scenes.
+    ("incline-block", "compression", 2),
 ];
 
 /// The kind and dimension of a case (`None` for a case not in the table).

@@ -194,6 +194,34 @@ fn mps_resumed_run_is_bit_identical() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// The incline block with Coulomb friction in every family: the resumed run carries the
+/// tools' meters, contact and sticking counts, their work on the body and their series (the
+/// friction columns and the summary's `friction_work` compare equal).
+#[test]
+fn friction_resumed_runs_are_bit_identical_in_every_family() {
+    for method in ["tl-hf", "ul-enog", "mps"] {
+        let dir = resumed_run_is_bit_identical(
+            &format!("friction-{method}"),
+            &[
+                "run",
+                "incline-block",
+                "--method",
+                method,
+                "--set",
+                "resolution=4",
+                "--set",
+                "end_time=0.03",
+                "--set",
+                "ramp_time=0.01",
+                "--set",
+                "snapshot_interval=0.01",
+            ],
+            "0.012",
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}
+
 /// Issue 42: a scene run with overrides (a parameter, the method), probe fields and VTU frames
 /// resumes bit-identically, with its overrides, and re-creates its frames and collection.
 #[test]

@@ -26,6 +26,12 @@ pub const TOOL_SERIES: &str = "rigid tool: `time` (s); `displacement` its travel
      straight line `displacement_x`, `displacement_y`, `displacement_z` (3D) its displacement \
      (m), and for a turning tool `angle` the angle it has turned (rad)";
 
+/// The columns a tool with friction adds to [`TOOL_SERIES`] (after `contacts`).
+pub const TOOL_FRICTION_SERIES: &str = "with friction: `friction_x`, `friction_y`, `friction_z` \
+     (3D) the tangential part of that force, the mean friction force the body exerts on the tool \
+     (N; N/m in 2D); `sticking` the fraction of the contacting particles that stuck in the last \
+     step (0 with no contact)";
+
 /// The columns of a named constraint's (grip's) series.
 pub const GRIP_SERIES: &str = "named constraint (grip): `time` (s); `x`, `y`, `z` (3D) the \
      mean position of its particles (m); `force_x`, `force_y`, `force_z` (3D) the mean force the \
@@ -52,6 +58,7 @@ mod tests {
             super::PLANE_STRAIN,
             super::REACTIONS,
             super::TOOL_SERIES,
+            super::TOOL_FRICTION_SERIES,
             super::GRIP_SERIES,
             super::CONTACT_SERIES,
             super::PROBES,

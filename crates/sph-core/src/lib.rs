@@ -4,7 +4,7 @@
 //! ([`dim`]), smoothing kernels ([`kernel`]), neighbour search ([`neighbor`]), per-pair kernel data
 //! ([`pairs`]), the kernel-gradient correction matrix ([`correction`]), particle generators
 //! ([`generate`]), constraints, loads, amplitude curves ([`amplitude`]) and probes a scene attaches ([`scene`]), rigid tools with
-//! frictionless contact ([`tool`]), quasi-static relaxation ([`relaxation`]), the particle
+//! kinematic contact ([`tool`]) and Coulomb friction ([`friction`]), quasi-static relaxation ([`relaxation`]), the particle
 //! disorder indicator ([`disorder`]), the [`solver::Solver`] trait, the instruction set the loops
 //! run with ([`wide`]), and what a distributed run
 //! needs: communicators ([`comm`]), decomposition ([`decomposition`]) and a rank's share
@@ -62,6 +62,7 @@ pub mod dim;
 pub mod disorder;
 pub mod distributed;
 pub mod error;
+pub mod friction;
 pub mod generate;
 pub mod kernel;
 pub mod neighbor;
@@ -81,6 +82,7 @@ pub use amplitude::Amplitude;
 pub use body::Body;
 pub use dim::{Dim, D2, D3};
 pub use error::Error;
+pub use friction::Friction;
 pub use kernel::{Kernel, WendlandC2};
 pub use neighbor::{CellGrid, NeighborList, NeighbourValues};
 pub use pairs::PairKernel;
@@ -88,4 +90,4 @@ pub use relaxation::{PairwiseDamper, PairwiseDamping};
 pub use scene::{Constraint, Constraints, Loads, Probe, Series, TimeFunction};
 pub use solver::{EnergyBudget, Field, Solver, StepInfo};
 pub use state::{StateReader, StateWriter};
-pub use tool::{RigidTool, ToolMotion, ToolShape};
+pub use tool::{RigidTool, ToolMotion, ToolSet, ToolShape};

@@ -1,5 +1,6 @@
 //! Rigid tools (punches, platens, walls) that move with a prescribed velocity history and touch
-//! a deformable body through **frictionless kinematic contact**.
+//! a deformable body through **kinematic contact**, frictionless or with Coulomb friction
+//! ([`crate::friction`]); a [`ToolSet`] is what every method attaches (TL, UL and MPS alike).
 //!
 //! # The contact law
 //!
@@ -36,10 +37,21 @@
 //! curved ones, at any loading speed the scheme is stable for. It is inelastic (a particle
 //! hitting the tool does not bounce): right for rigid platens and quasi-static loading; for
 //! elastic impacts between deformable bodies use a method's body–body contact.
+//!
+//! # Friction
+//!
+//! A tool with friction ([`RigidTool::with_friction`]) then changes the tangential velocity of
+//! each particle it corrected, relative to the tool's surface there (the velocity of the tool's
+//! material point over the look-ahead, so a moving or turning tool drags what sticks to it),
+//! with the normal velocity change `−g/τ` as the normal impulse per unit mass: stick if the
+//! sticking change is within `μ_s` times it, else slip with `μ_k` times it (see
+//! [`crate::friction`]). A frictionless tool never enters that code.
 
 use crate::amplitude::Amplitude;
 use crate::dim::Dim;
 use crate::error::{check_non_negative, check_positive, Error};
+use crate::friction::{coulomb_velocity_change, Friction};
+use crate::scene::Series;
 use glam::DVec3;
 use std::f64::consts::PI;
 
@@ -304,6 +316,16 @@ impl<D: Dim> Pose<D> {
         match self.rotation {
             None => shifted,
             Some((c, r)) => c + D::transpose(r) * (shifted - c),
+        }
+    }
+
+    /// Where the point `X` of the tool in its initial position is in space:
+    /// `x = c + u + R(X − c)` (`X + u` without rotation; the inverse of [`Pose::to_initial`]).
+    #[inline]
+    pub fn to_space(&self, x: D::Vector) -> D::Vector {
+        match self.rotation {
+            None => x + self.shift,
+            Some((c, r)) => c + self.shift + r * (x - c),
         }
     }
 
@@ -705,6 +727,8 @@ pub struct RigidTool<D: Dim> {
     pub shape: ToolShape<D>,
     /// Motion.
     pub motion: ToolMotion<D>,
+    /// Coulomb friction with the body ([`Friction::NONE`]: frictionless).
+    pub friction: Friction,
 }
 
 /// What one contact pass did.
@@ -715,6 +739,17 @@ pub struct ContactOutcome<D: Dim> {
     pub impulse: D::Vector,
     /// Particles in contact this step.
     pub active: usize,
+    /// The tangential (friction) part of `impulse`.
+    pub friction_impulse: D::Vector,
+    /// Of the `active` particles, those that stuck (friction only).
+    pub sticking: usize,
+    /// Work of the normal velocity changes on the body, `Σ ½ m (|v⁺|² − |v⁻|²)`.
+    pub normal_work: f64,
+    /// Work of the friction velocity changes on the body.
+    pub friction_work: f64,
+    /// Energy the friction dissipated, `−Σ m Δv_t · (v_mid − v_tool)` (≥ 0; equal to
+    /// `−friction_work` for a tool at rest).
+    pub friction_dissipation: f64,
 }
 
 impl<D: Dim> RigidTool<D> {
@@ -724,7 +759,14 @@ impl<D: Dim> RigidTool<D> {
             name: name.to_string(),
             shape,
             motion,
+            friction: Friction::NONE,
         }
+    }
+
+    /// With Coulomb friction against the body (see [`crate::friction`]).
+    pub fn with_friction(mut self, friction: Friction) -> Self {
+        self.friction = friction;
+        self
     }
 
     /// The largest speed of a point of the tool (m/s): its translation's speed, plus for a
@@ -760,12 +802,13 @@ impl<D: Dim> RigidTool<D> {
         (d, pose.normal_to_space(n))
     }
 
-    /// Frictionless kinematic contact (see the [module documentation](self)): for every
-    /// particle with `movable[i]`, whose predicted position `x + lookahead·v` lies closer than
-    /// its contact offset `offset(i, n)` (`n` the tool's normal there) to the tool at time
-    /// `t_end` (the time of that prediction), adds the normal velocity that puts it on the
-    /// offset surface. `max_offset` bounds the offsets (a cheap bounding-box rejection).
-    /// Sequential, so the impulse sum is deterministic.
+    /// Kinematic contact (see the [module documentation](self)): for every particle with
+    /// `movable[i]`, whose predicted position `x + lookahead·v` lies closer than its contact
+    /// offset `offset(i, n)` (`n` the tool's normal there) to the tool at time `t_end` (the time
+    /// of that prediction), adds the normal velocity that puts it on the offset surface, then,
+    /// with friction, the tangential velocity change of the Coulomb law. `max_offset` bounds the
+    /// offsets (a cheap bounding-box rejection). Sequential, so the impulse sum is
+    /// deterministic.
     #[allow(clippy::too_many_arguments)]
     pub fn enforce_contact(
         &self,
@@ -779,16 +822,27 @@ impl<D: Dim> RigidTool<D> {
         movable: &[bool],
     ) -> ContactOutcome<D> {
         let pose = self.motion.pose(t_end);
+        // With friction: where the tool was one look-ahead earlier (its surface velocity).
+        let before =
+            (!self.friction.is_frictionless()).then(|| self.motion.pose(t_end - lookahead));
         let (lo, hi) = self.shape.bounds();
         let reach = max_offset * (1.0 + 1e-12);
-        let mut impulse = D::zero();
-        let mut active = 0;
+        let mut out = ContactOutcome {
+            impulse: D::zero(),
+            active: 0,
+            friction_impulse: D::zero(),
+            sticking: 0,
+            normal_work: 0.0,
+            friction_work: 0.0,
+            friction_dissipation: 0.0,
+        };
         for i in 0..positions.len() {
             if !movable[i] {
                 continue;
             }
             // The predicted position, in the tool's initial position.
-            let x = pose.to_initial(positions[i] + velocities[i] * lookahead);
+            let predicted = positions[i] + velocities[i] * lookahead;
+            let x = pose.to_initial(predicted);
             // Cheap rejection against the bounding box grown by the offset.
             if (0..D::D).any(|k| {
                 let c = D::component(x, k);
@@ -800,13 +854,367 @@ impl<D: Dim> RigidTool<D> {
             let n = pose.normal_to_space(n);
             let gap = d - offset(i, n);
             if gap < 0.0 {
-                let dv = n * (-gap / lookahead);
+                let normal_change = -gap / lookahead;
+                let dv = n * normal_change;
+                let v0 = velocities[i];
                 velocities[i] += dv;
-                impulse += dv * masses[i];
-                active += 1;
+                out.impulse += dv * masses[i];
+                out.normal_work += masses[i] * D::dot(dv, v0 + dv * 0.5);
+                out.active += 1;
+                if let Some(before) = &before {
+                    // The tool's material point at the predicted contact, over the look-ahead.
+                    let tool_velocity = (predicted - before.to_space(x)) / lookahead;
+                    let v1 = velocities[i];
+                    let relative = v1 - tool_velocity;
+                    let slip = relative - n * D::dot(relative, n);
+                    let (dvt, stick) =
+                        coulomb_velocity_change::<D>(slip, normal_change, self.friction);
+                    velocities[i] += dvt;
+                    let j = dvt * masses[i];
+                    out.impulse += j;
+                    out.friction_impulse += j;
+                    let mid = v1 + dvt * 0.5;
+                    out.friction_work += D::dot(j, mid);
+                    out.friction_dissipation -= D::dot(j, mid - tool_velocity);
+                    out.sticking += usize::from(stick);
+                }
             }
         }
-        ContactOutcome { impulse, active }
+        out
+    }
+}
+
+/// The rigid tools a body touches, as every method attaches them: their contact pass (the
+/// impulses of one step summed per tool), reaction meters, contact counts, the work of the
+/// contact and friction on the body, the series each tool records, and their checkpoint state.
+///
+/// A method calls [`ToolSet::begin_step`], then [`ToolSet::enforce`] once or more after its
+/// velocity update, then [`ToolSet::end_step`] with the step's length; [`ToolSet::record`] on
+/// its probe schedule.
+///
+/// ```
+/// use sph_core::friction::Friction;
+/// use sph_core::tool::{RigidTool, ToolMotion, ToolSet, ToolShape};
+/// use sph_core::{glam::DVec2, D2};
+/// // A floor with friction under one particle sliding at 1 m/s and pressed into it.
+/// let floor = ToolShape::<D2>::half_space(DVec2::ZERO, DVec2::Y)?;
+/// let tool = RigidTool::new("floor", floor, ToolMotion::fixed())
+///     .with_friction(Friction::new(0.5, 0.5)?);
+/// let mut tools = ToolSet::new(vec![tool], &[], 100.0)?;
+/// let (x, mut v) = (vec![DVec2::new(0.0, 0.0)], vec![DVec2::new(1.0, -0.2)]);
+/// tools.begin_step();
+/// tools.enforce(0.1, 0.1, |_, _| 0.0, 0.0, &x, &mut v, &[1.0], &[true], true);
+/// tools.end_step(0.1);
+/// // The normal change 0.2 m/s stops the approach; friction takes 0.5 · 0.2 off the slide.
+/// assert!((v[0] - DVec2::new(0.9, 0.0)).length() < 1e-15);
+/// assert!(tools.work().friction < 0.0);
+/// # Ok::<(), sph_core::Error>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct ToolSet<D: Dim> {
+    tools: Vec<RigidTool<D>>,
+    meters: Vec<ReactionMeter<D>>,
+    friction_meters: Vec<ReactionMeter<D>>,
+    /// Particles in contact with, and sticking to, each tool in the last step.
+    contacts: Vec<usize>,
+    sticking: Vec<usize>,
+    /// This step's impulses on the body per tool (all, friction part).
+    impulses: Vec<D::Vector>,
+    friction_impulses: Vec<D::Vector>,
+    work: ToolWork,
+    series: Vec<Series>,
+}
+
+/// Work done on the body by the tools since `t = 0` (J; J/m in 2D).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ToolWork {
+    /// By the normal contact velocity changes (≤ 0 against tools at rest: the contact is
+    /// perfectly inelastic).
+    pub contact: f64,
+    /// By the friction velocity changes.
+    pub friction: f64,
+    /// Energy the friction dissipated (≥ 0; `−friction` when the tools are at rest).
+    pub friction_dissipated: f64,
+}
+
+impl<D: Dim> Default for ToolSet<D> {
+    fn default() -> Self {
+        Self {
+            tools: Vec::new(),
+            meters: Vec::new(),
+            friction_meters: Vec::new(),
+            contacts: Vec::new(),
+            sticking: Vec::new(),
+            impulses: Vec::new(),
+            friction_impulses: Vec::new(),
+            work: ToolWork::default(),
+            series: Vec::new(),
+        }
+    }
+}
+
+impl<D: Dim> ToolSet<D> {
+    /// The tools a body of sound speed `sound_speed` touches; `taken` are names the tools'
+    /// series must not reuse (a method's named constraints).
+    ///
+    /// # Errors
+    /// A tool name that is not a name ([`crate::error::check_name`]); two tools (or a tool and
+    /// a taken name) with the same name; a tool at or above the body's sound speed.
+    pub fn new(tools: Vec<RigidTool<D>>, taken: &[&str], sound_speed: f64) -> Result<Self, Error> {
+        let mut names: Vec<&str> = taken.to_vec();
+        for t in &tools {
+            crate::error::check_name("tool name", &t.name)?;
+            // The step follows the body's wave speed, not the tool's: a tool faster than
+            // sound outruns the contact and collapses the step within a few dozen steps.
+            let speed = t.max_speed();
+            if speed >= sound_speed {
+                return Err(Error::invalid(
+                    &format!("speed of tool `{}`", t.name),
+                    crate::error::Num(speed),
+                    &format!(
+                        "0 <= tool speed < {} m/s, the body's sound speed c0 (a faster tool \
+                         outruns the contact)",
+                        crate::error::Num(sound_speed)
+                    ),
+                ));
+            }
+            if names.contains(&t.name.as_str()) {
+                return Err(Error::invalid(
+                    "tool name",
+                    format!("{:?}", t.name),
+                    "non-empty and unique among the body's tools and named constraints",
+                ));
+            }
+            names.push(&t.name);
+        }
+        let n = tools.len();
+        let mut set = Self {
+            tools,
+            meters: vec![ReactionMeter::default(); n],
+            friction_meters: vec![ReactionMeter::default(); n],
+            contacts: vec![0; n],
+            sticking: vec![0; n],
+            impulses: vec![D::zero(); n],
+            friction_impulses: vec![D::zero(); n],
+            work: ToolWork::default(),
+            series: Vec::new(),
+        };
+        set.reset_series(0.0);
+        Ok(set)
+    }
+
+    /// The tools.
+    pub fn tools(&self) -> &[RigidTool<D>] {
+        &self.tools
+    }
+
+    /// Whether there is no tool.
+    pub fn is_empty(&self) -> bool {
+        self.tools.is_empty()
+    }
+
+    /// Number of tools.
+    pub fn len(&self) -> usize {
+        self.tools.len()
+    }
+
+    /// Whether some tool has friction.
+    pub fn has_friction(&self) -> bool {
+        self.tools.iter().any(|t| !t.friction.is_frictionless())
+    }
+
+    /// Particles in contact with each tool in the last step.
+    pub fn contacts(&self) -> &[usize] {
+        &self.contacts
+    }
+
+    /// Work the tools did on the body since `t = 0`.
+    pub fn work(&self) -> ToolWork {
+        self.work
+    }
+
+    /// The energy-budget terms of the tools (see [`crate::EnergyBudget`]: minus the work done
+    /// on the body): `tool_contact` and `friction`; empty without tools.
+    pub fn budget_terms(&self) -> Vec<(&'static str, f64)> {
+        if self.is_empty() {
+            return Vec::new();
+        }
+        vec![
+            ("tool_contact", -self.work.contact),
+            ("friction", -self.work.friction),
+        ]
+    }
+
+    /// The figures of the tools for a run's summary: `tool_contact_work`, `friction_work`
+    /// (work on the body) and `friction_dissipated`; empty without tools.
+    pub fn figures(&self) -> Vec<(&'static str, f64)> {
+        if self.is_empty() {
+            return Vec::new();
+        }
+        vec![
+            ("tool_contact_work", self.work.contact),
+            ("friction_work", self.work.friction),
+            ("friction_dissipated", self.work.friction_dissipated),
+        ]
+    }
+
+    /// Starts a step: no impulse yet.
+    pub fn begin_step(&mut self) {
+        self.impulses.iter_mut().for_each(|j| *j = D::zero());
+        self.friction_impulses
+            .iter_mut()
+            .for_each(|j| *j = D::zero());
+    }
+
+    /// One contact pass of every tool ([`RigidTool::enforce_contact`], same arguments), adding
+    /// each tool's impulses and work; `count` records the particles in contact (the first pass
+    /// of a step).
+    #[allow(clippy::too_many_arguments)]
+    pub fn enforce(
+        &mut self,
+        t_end: f64,
+        lookahead: f64,
+        offset: impl Fn(usize, D::Vector) -> f64 + Copy,
+        max_offset: f64,
+        positions: &[D::Vector],
+        velocities: &mut [D::Vector],
+        masses: &[f64],
+        movable: &[bool],
+        count: bool,
+    ) {
+        for (k, tool) in self.tools.iter().enumerate() {
+            let out = tool.enforce_contact(
+                t_end, lookahead, offset, max_offset, positions, velocities, masses, movable,
+            );
+            self.impulses[k] += out.impulse;
+            self.friction_impulses[k] += out.friction_impulse;
+            self.work.contact += out.normal_work;
+            self.work.friction += out.friction_work;
+            self.work.friction_dissipated += out.friction_dissipation;
+            if count {
+                self.contacts[k] = out.active;
+                self.sticking[k] = out.sticking;
+            }
+        }
+    }
+
+    /// Ends a step of length `dt`: each tool's reaction `−impulse/dt` into its meters.
+    pub fn end_step(&mut self, dt: f64) {
+        for (meter, &impulse) in self.meters.iter_mut().zip(&self.impulses) {
+            meter.add(-impulse / dt, dt);
+        }
+        for (k, meter) in self.friction_meters.iter_mut().enumerate() {
+            if !self.tools[k].friction.is_frictionless() {
+                meter.add(-self.friction_impulses[k] / dt, dt);
+            }
+        }
+    }
+
+    /// Empty series, one per tool, with a first row at time `t`.
+    pub fn reset_series(&mut self, t: f64) {
+        let axes = &["force_x", "force_y", "force_z"][..D::D];
+        let friction_axes = &["friction_x", "friction_y", "friction_z"][..D::D];
+        self.series = self
+            .tools
+            .iter()
+            .map(|t| {
+                let mut columns = vec!["displacement"];
+                columns.extend_from_slice(axes);
+                columns.push("contacts");
+                let mut description = crate::conventions::TOOL_SERIES.to_string();
+                if !t.friction.is_frictionless() {
+                    columns.extend_from_slice(friction_axes);
+                    columns.push("sticking");
+                    description = format!(
+                        "{description}; {}",
+                        crate::conventions::TOOL_FRICTION_SERIES
+                    );
+                }
+                // A tool off a straight line: its displacement vector, and the angle it turned.
+                if !t.motion.is_straight() {
+                    columns.extend_from_slice(
+                        &["displacement_x", "displacement_y", "displacement_z"][..D::D],
+                    );
+                }
+                if t.motion.rotation().is_some() {
+                    columns.push("angle");
+                }
+                Series::new(&t.name, &columns).with_description(&description)
+            })
+            .collect();
+        self.contacts.iter_mut().for_each(|c| *c = 0);
+        self.sticking.iter_mut().for_each(|c| *c = 0);
+        self.record(t);
+    }
+
+    /// Appends one row to every tool's series: travel, mean reactions since the last row,
+    /// contacts (and friction).
+    pub fn record(&mut self, t: f64) {
+        let mut row = Vec::with_capacity(12);
+        for (k, tool) in self.tools.iter().enumerate() {
+            row.clear();
+            row.push(tool.motion.distance(t));
+            let f = self.meters[k].take_mean();
+            row.extend((0..D::D).map(|c| D::component(f, c)));
+            row.push(self.contacts[k] as f64);
+            if !tool.friction.is_frictionless() {
+                let f = self.friction_meters[k].take_mean();
+                row.extend((0..D::D).map(|c| D::component(f, c)));
+                let active = self.contacts[k];
+                row.push(if active > 0 {
+                    self.sticking[k] as f64 / active as f64
+                } else {
+                    0.0
+                });
+            }
+            if !tool.motion.is_straight() {
+                let u = tool.motion.displacement(t);
+                row.extend((0..D::D).map(|c| D::component(u, c)));
+            }
+            if tool.motion.rotation().is_some() {
+                row.push(tool.motion.angle(t));
+            }
+            self.series[k].push(t, &row);
+        }
+    }
+
+    /// The tools' series.
+    pub fn series(&self) -> &[Series] {
+        &self.series
+    }
+
+    /// Writes the running state: contact counts, meters, work, series.
+    pub fn save(&self, out: &mut crate::StateWriter) {
+        let contacts: Vec<u64> = self.contacts.iter().map(|&c| c as u64).collect();
+        out.u64s("tool_contacts", &contacts);
+        let sticking: Vec<u64> = self.sticking.iter().map(|&c| c as u64).collect();
+        out.u64s("tool_sticking", &sticking);
+        ReactionMeter::save_all(out, "tool_meters", &self.meters);
+        ReactionMeter::save_all(out, "tool_friction_meters", &self.friction_meters);
+        let w = self.work;
+        out.f64s("tool_work", &[w.contact, w.friction, w.friction_dissipated]);
+        crate::state::save_series(out, &self.series);
+    }
+
+    /// Reads back [`ToolSet::save`] into a tool set built from the same scene.
+    ///
+    /// # Errors
+    /// A mismatch of names or sizes ([`Error::Checkpoint`]).
+    pub fn restore(&mut self, input: &mut crate::StateReader<'_>) -> Result<(), Error> {
+        let n = Some(self.tools.len());
+        let contacts = input.u64s("tool_contacts", n)?;
+        self.contacts = contacts.into_iter().map(|c| c as usize).collect();
+        let sticking = input.u64s("tool_sticking", n)?;
+        self.sticking = sticking.into_iter().map(|c| c as usize).collect();
+        ReactionMeter::restore_all(input, "tool_meters", &mut self.meters)?;
+        ReactionMeter::restore_all(input, "tool_friction_meters", &mut self.friction_meters)?;
+        let [contact, friction, friction_dissipated] = input.scalars::<3>("tool_work")?;
+        self.work = ToolWork {
+            contact,
+            friction,
+            friction_dissipated,
+        };
+        crate::state::restore_series(input, &mut self.series)
     }
 }
 
@@ -1087,6 +1495,142 @@ mod tests {
         assert_eq!(out.impulse.x, 0.0);
         // Far particle: untouched.
         assert_eq!(v[2], DVec2::ZERO);
+    }
+
+    #[test]
+    fn friction_sticks_within_the_static_cone_and_slides_on_the_kinetic_one() {
+        // A floor at y = 0 at rest; one particle pressed into it at 1 m/s, sliding along it.
+        let floor = ToolShape::<D2>::half_space(DVec2::ZERO, DVec2::Y).unwrap();
+        let tool = RigidTool::new("floor", floor, ToolMotion::fixed())
+            .with_friction(Friction::new(0.5, 0.2).unwrap());
+        let x = vec![DVec2::new(0.0, 0.0)];
+        let (tau, m) = (0.1, [2.0]);
+        // Slides at 0.4 ≤ μ_s · 1: stuck.
+        let mut v = vec![DVec2::new(0.4, -1.0)];
+        let out = tool.enforce_contact(tau, tau, |_, _| 0.0, 0.0, &x, &mut v, &m, &[true]);
+        assert_eq!((out.active, out.sticking), (1, 1));
+        assert!(v[0].length() < 1e-15, "{}", v[0]);
+        // The friction impulse is what stopped the slide; the work is the kinetic energy lost.
+        assert!((out.friction_impulse - DVec2::new(-0.8, 0.0)).length() < 1e-15);
+        assert!((out.impulse - DVec2::new(-0.8, 2.0)).length() < 1e-15);
+        let ke = 0.5 * 2.0 * (0.4f64.powi(2) + 1.0);
+        assert!((out.normal_work + out.friction_work + ke).abs() < 1e-15);
+        assert!((out.friction_dissipation + out.friction_work).abs() < 1e-15);
+        // Slides at 0.9 > μ_s · 1: slowed by μ_k · 1.
+        let mut v = vec![DVec2::new(-0.9, -1.0)];
+        let out = tool.enforce_contact(tau, tau, |_, _| 0.0, 0.0, &x, &mut v, &m, &[true]);
+        assert_eq!((out.active, out.sticking), (1, 0));
+        assert!((v[0] - DVec2::new(-0.7, 0.0)).length() < 1e-15, "{}", v[0]);
+        assert!(out.friction_dissipation > 0.0);
+    }
+
+    #[test]
+    fn a_moving_tool_drags_what_sticks_to_it_and_does_work_through_friction() {
+        // A belt (the floor moving at 2 m/s along x) under a particle at rest pressed into it.
+        let floor = ToolShape::<D3>::half_space(DVec3::ZERO, DVec3::Z).unwrap();
+        let belt = ToolMotion::translating(DVec3::new(2.0, 0.0, 0.0), None).unwrap();
+        let tool =
+            RigidTool::new("belt", floor, belt).with_friction(Friction::new(1.0, 1.0).unwrap());
+        let x = vec![DVec3::ZERO];
+        let mut v = vec![DVec3::new(0.0, 0.0, -3.0)];
+        let out = tool.enforce_contact(1.0, 0.5, |_, _| 0.0, 0.0, &x, &mut v, &[1.0], &[true]);
+        // Relative slip 2 m/s ≤ μ_s · 3: it sticks, moving with the belt.
+        assert_eq!(out.sticking, 1);
+        assert!(
+            (v[0] - DVec3::new(2.0, 0.0, 0.0)).length() < 1e-12,
+            "{}",
+            v[0]
+        );
+        // The belt did positive work on it (½ m 2²); the dissipation is what the slip lost.
+        assert!(
+            (out.friction_work - 2.0).abs() < 1e-12,
+            "{}",
+            out.friction_work
+        );
+        assert!(
+            (out.friction_dissipation - 2.0).abs() < 1e-12,
+            "{}",
+            out.friction_dissipation
+        );
+        // A turning tool: a disc of radius 1 spinning at 1 rad/s about its centre drags a
+        // particle sticking to its rim at the rim's speed, tangentially.
+        let disc = ToolShape::<D2>::ball(DVec2::ZERO, 1.0).unwrap();
+        let spin = ToolMotion::fixed()
+            .rotating(DVec2::ZERO, DVec3::Z, 1.0, None)
+            .unwrap();
+        let tool =
+            RigidTool::new("disc", disc, spin).with_friction(Friction::new(1.0, 1.0).unwrap());
+        let x = vec![DVec2::new(0.0, 1.0)];
+        let mut v = vec![DVec2::new(0.0, -2.0)];
+        let tau = 1e-6;
+        let out = tool.enforce_contact(tau, tau, |_, _| 0.0, 0.0, &x, &mut v, &[1.0], &[true]);
+        assert_eq!(out.sticking, 1);
+        assert!((v[0] - DVec2::new(-1.0, 0.0)).length() < 1e-5, "{}", v[0]);
+    }
+
+    #[test]
+    fn a_tool_set_meters_the_friction_and_keeps_series_columns_of_frictionless_tools() {
+        let floor = ToolShape::<D2>::half_space(DVec2::ZERO, DVec2::Y).unwrap();
+        let plain = RigidTool::new("plain", floor, ToolMotion::fixed());
+        let rough = RigidTool::new("rough", floor, ToolMotion::fixed())
+            .with_friction(Friction::new(0.3, 0.3).unwrap());
+        let mut set = ToolSet::new(vec![plain.clone(), rough], &[], 10.0).unwrap();
+        assert!(set.has_friction());
+        assert_eq!(
+            set.series()[0].columns,
+            ["displacement", "force_x", "force_y", "contacts"]
+        );
+        assert_eq!(
+            set.series()[1].columns,
+            [
+                "displacement",
+                "force_x",
+                "force_y",
+                "contacts",
+                "friction_x",
+                "friction_y",
+                "sticking"
+            ]
+        );
+        // Two particles sliding into the floors: the first tool takes all the normal
+        // velocity, the second none (already on the surface), so no friction there.
+        let x = vec![DVec2::ZERO, DVec2::new(1.0, 0.0)];
+        let mut v = vec![DVec2::new(1.0, -1.0), DVec2::new(0.1, -1.0)];
+        set.begin_step();
+        set.enforce(
+            0.5,
+            0.5,
+            |_, _| 0.0,
+            0.0,
+            &x,
+            &mut v,
+            &[1.0, 1.0],
+            &[true, true],
+            true,
+        );
+        set.end_step(0.5);
+        set.record(0.5);
+        assert_eq!(set.contacts(), &[2, 0]);
+        let s = &set.series()[0];
+        assert_eq!(s.column("force_y").unwrap()[1], -4.0);
+        assert_eq!(set.series()[1].column("friction_x").unwrap()[1], 0.0);
+        // Names are checked, and a tool must be slower than sound.
+        assert!(ToolSet::new(vec![plain.clone(), plain.clone()], &[], 10.0).is_err());
+        assert!(ToolSet::new(vec![plain.clone()], &["plain"], 10.0).is_err());
+        let fast = RigidTool::new(
+            "fast",
+            floor,
+            ToolMotion::translating(DVec2::new(20.0, 0.0), None).unwrap(),
+        );
+        assert!(ToolSet::new(vec![fast], &[], 10.0).is_err());
+        // Its state round-trips through a checkpoint.
+        let mut out = crate::StateWriter::default();
+        set.save(&mut out);
+        let bytes = out.into_bytes();
+        let mut back = ToolSet::new(set.tools().to_vec(), &[], 10.0).unwrap();
+        back.restore(&mut crate::StateReader::new(&bytes)).unwrap();
+        assert_eq!(back.work(), set.work());
+        assert_eq!(back.series(), set.series());
     }
 
     #[test]

@@ -17,6 +17,7 @@ use sph_core::scene::ProbeSchedule;
 use sph_core::solver::first_non_finite;
 use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
 use sph_core::state::{restore_probes, save_probes, StateReader, StateWriter};
+use sph_core::tool::{RigidTool, ToolSet};
 use sph_core::{Constraints, Dim, Error, Field, Loads, NeighborList, Probe, Solver, StepInfo};
 use sph_materials::{von_mises, Material};
 use std::sync::Arc;
@@ -180,6 +181,10 @@ pub struct MpsSolver<D: Dim, M: Material<D>> {
     contact_energy: f64,
     stabilisation: Option<Stabilisation<D>>,
     stabilisation_energy: f64,
+    /// Rigid tools in kinematic contact (with friction where a tool has it), and the particles
+    /// they may move (those no constraint holds).
+    tools: ToolSet<D>,
+    free: Vec<bool>,
     probes: Vec<Probe<D>>,
     schedule: ProbeSchedule,
     time: f64,
@@ -192,6 +197,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// Attaches the constraints (velocities at the kicks, accelerations after each force
     /// evaluation).
     pub fn with_constraints(mut self, constraints: Constraints<D>) -> Self {
+        self.free = constraints.free_mask(self.len());
         self.constraints = constraints;
         self.refresh();
         self
@@ -413,6 +419,33 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         for p in &mut self.probes {
             p.record(self.time, &self.positions, &self.velocities);
         }
+        if !self.tools.is_empty() {
+            self.tools.record(self.time);
+        }
+    }
+
+    /// Contact with the rigid tools (see [`MpsSolver::with_tools`]) after a kick: the velocity
+    /// now drifts the particles for `lookahead` before the next kick, with the tools where they
+    /// will be at `t_end`. Contact offset: the deformed half cell `(l0/2)|Fᵀn|`.
+    fn enforce_tool_contact(&mut self, t_end: f64, lookahead: f64, dt: f64) {
+        let (half_dp, deformation) = (0.5 * self.dp, &self.deformation);
+        let offset = |i: usize, n: D::Vector| half_dp * D::norm(D::transpose(deformation[i]) * n);
+        // |Fᵀ n| ≤ ‖F‖_F bounds every particle's offset factor.
+        let stretch =
+            sph_core::parallel::max_over(deformation.len(), 1.0, |i| D::frobenius(deformation[i]));
+        self.tools.begin_step();
+        self.tools.enforce(
+            t_end,
+            lookahead,
+            offset,
+            half_dp * stretch,
+            &self.positions,
+            &mut self.velocities,
+            &self.masses,
+            &self.free,
+            true,
+        );
+        self.tools.end_step(dt);
     }
 
     /// `C · min(l0/(c + |v|max), √(l0/|a|max))`: what a CFL criterion on the current state
@@ -531,6 +564,24 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         self.refresh();
         Ok(self)
     }
+
+    /// Attaches rigid tools in kinematic contact with the body, frictionless or with Coulomb
+    /// friction ([`sph_core::tool`], [`sph_core::friction`]): applied once per step to the
+    /// velocity that drifts the particles over the step (velocity Verlet: after the first
+    /// half-kick, from `x^n` to the tools at `t^{n+1}`; symplectic Euler: after the kick, from
+    /// `x^{n+1}` to `t^{n+2}`), with the contact offset of the deformed half cell. Each tool
+    /// records its series `/series/<name>` with the probes, and the summary the tools' work
+    /// (`tool_contact_work`, `friction_work`, `friction_dissipated`).
+    ///
+    /// # Errors
+    /// As [`ToolSet::new`]: a tool name that is not a name or is used twice, a tool at or above
+    /// the sound speed.
+    pub fn with_tools(mut self, tools: Vec<RigidTool<D>>) -> Result<Self, Error> {
+        let mut set = ToolSet::new(tools, &[], self.sound_speed)?;
+        set.reset_series(self.time);
+        self.tools = set;
+        Ok(self)
+    }
 }
 
 impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
@@ -561,6 +612,9 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
                 self.kick(half);
                 self.constraints
                     .apply_to_velocities(self.time + half, &mut self.velocities);
+                if !self.tools.is_empty() {
+                    self.enforce_tool_contact(self.time + dt, dt, dt);
+                }
                 self.drift(dt);
                 self.time += dt;
                 self.compute_accelerations();
@@ -578,13 +632,16 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
                 self.kick(dt);
                 self.constraints
                     .apply_to_velocities(self.time, &mut self.velocities);
+                if !self.tools.is_empty() {
+                    self.enforce_tool_contact(self.time + dt, dt, dt);
+                }
                 self.damp(half);
             }
         }
         self.steps += 1;
         self.exchange_halo();
         self.domain.agree(self.check_finite())?;
-        if !self.probes.is_empty() && self.schedule.due(self.time) {
+        if !(self.probes.is_empty() && self.tools.is_empty()) && self.schedule.due(self.time) {
             self.record_probes();
         }
         Ok(StepInfo {
@@ -614,6 +671,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
         );
         out.u64s("steps", &[self.steps]);
         save_probes(out, &self.probes);
+        self.tools.save(out);
         Ok(())
     }
 
@@ -630,6 +688,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
         self.schedule.set_next(next_probe);
         self.steps = input.u64s("steps", Some(1))?[0];
         restore_probes(input, &mut self.probes)?;
+        self.tools.restore(input)?;
         self.check_finite()
     }
 
@@ -691,5 +750,15 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
 
     fn momentum(&self) -> Option<glam::DVec3> {
         Some(D::to_vec3(self.linear_momentum()))
+    }
+
+    /// The tools' series.
+    fn series(&self) -> Vec<sph_core::Series> {
+        self.tools.series().to_vec()
+    }
+
+    /// The tools' work on the body (none without tools).
+    fn figures(&self) -> Vec<(&'static str, f64)> {
+        self.tools.figures()
     }
 }

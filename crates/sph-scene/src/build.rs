@@ -9,6 +9,7 @@ use crate::spec::{
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
 use sph_core::error::Num;
+use sph_core::friction::Friction;
 use sph_core::generate::{
     annulus_polar, tube_polar, Aabb, Difference, FnShape, Intersection, Lattice, ParticleSet,
     Shape, Union,
@@ -495,14 +496,7 @@ impl Scene {
                 })
                 .map_err(|e| self.driver(e))
             };
-        let no_tools = |what: &str| -> Result<(), SceneError> {
-            if let Some(t) = spec.tools.first() {
-                return Err(self.error(
-                    t.span(),
-                    "tool",
-                    format!("rigid tools need a TL method (tl, tl-hf, tl-gm); {what} bodies meet through body–body contact"),
-                ));
-            }
+        let no_relaxation = |what: &str| -> Result<(), SceneError> {
             if let Some(r) = &spec.relaxation {
                 return Err(self.error(
                     r.span(),
@@ -596,7 +590,7 @@ impl Scene {
                 run(&mut s)
             }
             Family::Ul => {
-                no_tools(method)?;
+                no_relaxation(method)?;
                 if !pressures.is_empty() {
                     let k = spec
                         .loads
@@ -678,6 +672,7 @@ impl Scene {
                 let known = numerics_keys(method).expect("a method");
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
+                let tools = self.tools::<D>()?;
                 let mut s = sph_ul::UlSolver::new(body, constants, shear, params)
                     .map_err(|e| self.solver_error(e, &numerics_span, &known))?
                     .with_constraints(constraints)
@@ -688,12 +683,14 @@ impl Scene {
                         .map_err(|e| self.core(spec.bodies[1].span(), "body", e))?;
                 }
                 let mut s = s
+                    .with_tools(tools)
+                    .map_err(|e| self.tool_error(e))?
                     .with_probes(probes, probe_interval)
                     .map_err(|e| self.core(numerics_span.clone(), "output.probe_interval", e))?;
                 run(&mut s)
             }
             Family::Mps => {
-                no_tools(method)?;
+                no_relaxation(method)?;
                 let d = sph_mps::MpsParams::default();
                 let integrator = match keys.text("integrator", "velocity-verlet").as_str() {
                     "velocity-verlet" => sph_mps::Integrator::VelocityVerlet,
@@ -737,6 +734,7 @@ impl Scene {
                 let known = numerics_keys(method).expect("a method");
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
+                let tools = self.tools::<D>()?;
                 let mut s = sph_mps::MpsSolver::new(body, law, params)
                     .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
                 for sp in pressures {
@@ -751,6 +749,8 @@ impl Scene {
                         .map_err(|e| self.core(spec.bodies[1].span(), "body", e))?;
                 }
                 let mut s = s
+                    .with_tools(tools)
+                    .map_err(|e| self.tool_error(e))?
                     .with_probes(probes, probe_interval)
                     .map_err(|e| self.core(numerics_span.clone(), "output.probe_interval", e))?;
                 if let Some(comm) = options.ranks.as_ref().filter(|c| c.size() > 1) {

@@ -35,7 +35,7 @@ pub struct SceneSpec {
     /// Probes (material points whose position and velocity are recorded).
     #[serde(default, rename = "probe")]
     pub probes: Vec<Spanned<ProbeSpec>>,
-    /// Rigid tools in frictionless contact (TL methods).
+    /// Rigid tools in kinematic contact, frictionless or with Coulomb friction (every method).
     #[serde(default, rename = "tool")]
     pub tools: Vec<Spanned<ToolSpec>>,
     /// Quasi-static relaxation (TL methods).
@@ -310,6 +310,10 @@ pub struct ToolSpec {
     pub amplitude: Option<AmplitudeSpec>,
     /// A rotation about an axis through a centre that moves with the tool.
     pub rotation: Option<RotationSpec>,
+    /// Static Coulomb coefficient μ_s against the body (default: `friction_kinetic`, else 0).
+    pub friction_static: Option<f64>,
+    /// Kinetic Coulomb coefficient μ_k ≤ μ_s (default: `friction_static`, else 0).
+    pub friction_kinetic: Option<f64>,
 }
 
 /// A tool's rotation: angle `angular_velocity · ∫ amplitude`.

@@ -160,8 +160,23 @@ fn errors_name_the_file_the_line_and_the_key() {
     // What a method cannot honour is an error.
     let tool =
         "\n[[tool]]\nname = \"t\"\nshape = { ball = { centre = [0.0, 0.1], radius = 0.01 } }\n";
-    let e = parse_err(&format!("{}{tool}", BASE.replace("tl-hf", "ul-enog")));
-    assert!(e.contains("tool") && e.contains("TL method"), "{e}");
+    // Friction coefficients out of range: one line naming the key and the range, before any
+    // work (every method takes tools).
+    for method in ["tl-hf", "ul-enog", "mps"] {
+        let base = BASE.replace("tl-hf", method);
+        let e = parse_err(&format!("{base}{tool}friction_static = -0.1\n"));
+        assert!(
+            e.contains("tool[0].friction_static") && e.contains(">= 0") && e.lines().count() == 1,
+            "{e}"
+        );
+        let e = parse_err(&format!(
+            "{base}{tool}friction_static = 0.2\nfriction_kinetic = 0.3\n"
+        ));
+        assert!(
+            e.contains("tool[0].friction_kinetic") && e.contains("<= friction_static"),
+            "{e}"
+        );
+    }
     let second = "\n[[body]]\nname = \"c\"\ndp = 1e-3\nshape = { box = { min = [0.02, 0.0], max = [0.03, 0.005] } }\n";
     let e = parse_err(&format!("{BASE}{second}"));
     assert!(e.contains("one body"), "{e}");

@@ -18,7 +18,7 @@ use sph_core::solver::{deformation_field, DEFORMATION_FIELDS};
 use sph_core::state::{
     restore_probes, restore_series, save_probes, save_series, StateReader, StateWriter,
 };
-use sph_core::tool::{ReactionMeter, RigidTool};
+use sph_core::tool::{ReactionMeter, ToolSet};
 use sph_core::{
     Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, Probe, Solver, StepInfo,
     WendlandC2,
@@ -203,17 +203,14 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     pressures: Vec<ResolvedPressure<D>>,
     probes: Vec<Probe<D>>,
     schedule: ProbeSchedule,
-    /// Rigid tools in frictionless contact with the body, their reaction meters and series.
-    tools: Vec<RigidTool<D>>,
-    tool_meters: Vec<ReactionMeter<D>>,
+    /// Rigid tools in contact with the body (with their meters, series and work).
+    tools: ToolSet<D>,
     /// Reaction meters of the named constraints (grips), in `Constraints::named` order.
     grip_meters: Vec<ReactionMeter<D>>,
-    /// Tool series, then grip series.
+    /// Grip series (the tools keep theirs).
     series: Vec<Series>,
     /// Quasi-static relaxation (pairwise damping), if attached.
     relaxation: Option<PairwiseDamper>,
-    /// Particles in contact with each tool in the last step.
-    tool_contacts: Vec<usize>,
     /// Axes along which the centre of mass of the free particles is held still.
     held_axes: [bool; 3],
     dp: f64,
@@ -256,32 +253,26 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         }
     }
 
-    /// Frictionless kinematic contact with every tool after a velocity update of step `dt`:
-    /// the new velocity drifts the particles for Δt (this step's second half-drift and the
-    /// next step's first) before it changes again, so the contact looks ahead by Δt from
-    /// `x^{n+1/2}`, with the tool where it will be then. Contact offset: the deformed half cell
-    /// `(dp/2)|Fᵀn|`. Adds each tool's impulse on the body to `impulses`; `count` records the
-    /// particles in contact.
-    fn enforce_tool_contact(&mut self, dt: f64, impulses: &mut [D::Vector], count: bool) {
+    /// Kinematic contact (with friction where a tool has it) with every tool after a velocity
+    /// update of step `dt`: the new velocity drifts the particles for Δt (this step's second
+    /// half-drift and the next step's first) before it changes again, so the contact looks
+    /// ahead by Δt from `x^{n+1/2}`, with the tool where it will be then. Contact offset: the
+    /// deformed half cell `(dp/2)|Fᵀn|`. `count` records the particles in contact.
+    fn enforce_tool_contact(&mut self, dt: f64, count: bool) {
         let t_end = self.time + 1.5 * dt;
         let (half_dp, deformation) = (0.5 * self.dp, &self.deformation);
         let offset = |i: usize, n: D::Vector| half_dp * D::norm(D::transpose(deformation[i]) * n);
-        for (k, tool) in self.tools.iter().enumerate() {
-            let out = tool.enforce_contact(
-                t_end,
-                dt,
-                offset,
-                half_dp * self.max_stretch,
-                &self.positions,
-                &mut self.velocities,
-                &self.masses,
-                &self.free,
-            );
-            impulses[k] += out.impulse;
-            if count {
-                self.tool_contacts[k] = out.active;
-            }
-        }
+        self.tools.enforce(
+            t_end,
+            dt,
+            offset,
+            half_dp * self.max_stretch,
+            &self.positions,
+            &mut self.velocities,
+            &self.masses,
+            &self.free,
+            count,
+        );
     }
 
     /// The smallest principal stretch (for [`TlParams::stretch_limited_dt`]) and the largest
@@ -548,14 +539,14 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             #[inline(always)]
             |i, v| *v += acc[i] * dt,
         );
-        // Frictionless contact with the tools, then the quasi-static relaxation of the
+        // Contact with the tools, then the quasi-static relaxation of the
         // admissible velocities, then contact again if the relaxation ran (it may have pulled a
         // touching particle toward a tool). Relaxing before the contact would spread the
         // surface rows' transient velocity, which the contact is about to remove, into the
         // interior: a pump of spurious momentum (measured: kinetic energy growing 40× on the
         // punching strip).
-        let mut impulses = vec![D::zero(); self.tools.len()];
-        self.enforce_tool_contact(dt, &mut impulses, true);
+        self.tools.begin_step();
+        self.enforce_tool_contact(dt, true);
         let relaxed = match &self.relaxation {
             Some(damper) => damper.apply::<D>(
                 self.steps,
@@ -567,11 +558,9 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             None => false,
         };
         if relaxed {
-            self.enforce_tool_contact(dt, &mut impulses, false);
+            self.enforce_tool_contact(dt, false);
         }
-        for (meter, impulse) in self.tool_meters.iter_mut().zip(impulses) {
-            meter.add(-impulse / dt, dt);
-        }
+        self.tools.end_step(dt);
         self.hold_centre();
         self.exchange_velocities();
         self.time += dt;
@@ -591,7 +580,8 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         ));
         self.update_stretch_extremes();
         self.domain.agree(self.check_finite())?;
-        if !(self.probes.is_empty() && self.series.is_empty()) && self.schedule.due(self.time) {
+        let recorded = self.series.is_empty() && self.tools.is_empty();
+        if !(self.probes.is_empty() && recorded) && self.schedule.due(self.time) {
             self.record_probes();
             self.record_series();
         }
@@ -667,8 +657,17 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         &self.probes
     }
 
+    /// The tools' series, then the grips'.
     fn series(&self) -> Vec<Series> {
-        self.series.clone()
+        let mut all = self.tools.series().to_vec();
+        all.extend(self.series.iter().cloned());
+        all
+    }
+
+    /// The tools' work on the body (`tool_contact_work`, `friction_work`,
+    /// `friction_dissipated`; none without tools).
+    fn figures(&self) -> Vec<(&'static str, f64)> {
+        self.tools.figures()
     }
 
     /// The state: `x`, `v`, `F`, `Ḟ`, the last accelerations and the extremes the time step
@@ -691,11 +690,9 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             ],
         );
         out.u64s("steps", &[self.steps]);
-        let contacts: Vec<u64> = self.tool_contacts.iter().map(|&c| c as u64).collect();
-        out.u64s("tool_contacts", &contacts);
         save_probes(out, &self.probes);
         save_series(out, &self.series);
-        ReactionMeter::save_all(out, "tool_meters", &self.tool_meters);
+        self.tools.save(out);
         ReactionMeter::save_all(out, "grip_meters", &self.grip_meters);
         Ok(())
     }
@@ -713,11 +710,9 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         (self.min_stretch, self.max_stretch) = (min_stretch, max_stretch);
         self.schedule.set_next(next_probe);
         self.steps = input.u64s("steps", Some(1))?[0];
-        let contacts = input.u64s("tool_contacts", Some(self.tool_contacts.len()))?;
-        self.tool_contacts = contacts.into_iter().map(|c| c as usize).collect();
         restore_probes(input, &mut self.probes)?;
         restore_series(input, &mut self.series)?;
-        ReactionMeter::restore_all(input, "tool_meters", &mut self.tool_meters)?;
+        self.tools.restore(input)?;
         ReactionMeter::restore_all(input, "grip_meters", &mut self.grip_meters)?;
         self.check_finite()
     }

@@ -250,3 +250,85 @@ fn relaxation_brings_a_vibrating_body_to_rest_keeping_its_momentum() {
     // 0.02 s ≈ 10 periods of the block's lowest mode: the vibration is gone.
     assert!(e1 < 1e-3 * e0, "{e1} of {e0}");
 }
+
+/// FNV-1a over the bits of every position and every recorded series value.
+fn fingerprint(s: &TlSolver<D2, NeoHookean>) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |x: f64| {
+        for b in x.to_bits().to_le_bytes() {
+            h = (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3);
+        }
+    };
+    for x in s.positions() {
+        eat(x.x);
+        eat(x.y);
+    }
+    for series in s.series() {
+        series.time.iter().for_each(|&t| eat(t));
+        series.values.iter().flatten().for_each(|&v| eat(v));
+    }
+    h
+}
+
+#[test]
+fn frictionless_tools_give_the_bits_they_gave_before_friction_existed() {
+    // A platen pressing a block on a grip, with the relaxation (two contact passes per step),
+    // and a turning paddle: the fingerprint was taken with the code before the friction and
+    // the shared tool set (commit 4617cb9), so a frictionless tool's results are bit for bit
+    // those of before.
+    let set = block::<D2>(DVec2::new(0.06, 0.04));
+    let n = set.len();
+    let base: Vec<u32> = (0..n as u32)
+        .filter(|&i| set.positions()[i as usize].y < DP)
+        .collect();
+    let mut constraints = Constraints::new();
+    constraints
+        .push_named("base", Constraint::Fixed { particles: base }, n)
+        .unwrap();
+    let down = ToolMotion::new(DVec2::new(0.0, -1.0), 0.5, 1e-3, 0.004).unwrap();
+    let platen = RigidTool::new(
+        "platen",
+        ToolShape::cuboid(DVec2::new(-1.0, 0.04), DVec2::new(0.03, 0.1)).unwrap(),
+        down,
+    );
+    let paddle = RigidTool::new(
+        "paddle",
+        ToolShape::rounded_cuboid(DVec2::new(0.061, 0.0), DVec2::new(0.08, 0.03), 0.005).unwrap(),
+        ToolMotion::fixed()
+            .rotating(DVec2::new(0.08, 0.0), glam::DVec3::Z, 5.0, None)
+            .unwrap(),
+    );
+    let mut s = solver::<D2>(&set, Shear::hourglass_free())
+        .with_constraints(constraints)
+        .with_tools(vec![platen, paddle])
+        .unwrap()
+        .with_relaxation(
+            PairwiseDamping::new(PairwiseDamping::viscosity_for(1.0, 1000.0, 1e6, 0.04)).unwrap(),
+        )
+        .unwrap()
+        .with_probes(Vec::new(), 1e-3)
+        .unwrap();
+    for _ in 0..300 {
+        s.step(f64::INFINITY).unwrap();
+    }
+    // Both tools touched the block (the fingerprint covers their contact).
+    for tool in ["platen", "paddle"] {
+        let series = s.series();
+        let contacts = series.iter().find(|x| x.name == tool).unwrap();
+        let most = contacts
+            .column("contacts")
+            .unwrap()
+            .iter()
+            .fold(0.0, |a: f64, &b| a.max(b));
+        assert!(most > 0.0, "{tool} never touched the block");
+    }
+    assert_eq!(
+        fingerprint(&s),
+        FRICTIONLESS_FINGERPRINT,
+        "{:#x}",
+        fingerprint(&s)
+    );
+}
+
+/// [`frictionless_tools_give_the_bits_they_gave_before_friction_existed`]'s fingerprint.
+const FRICTIONLESS_FINGERPRINT: u64 = 0x55c8_6634_4e46_676c;

@@ -56,6 +56,7 @@ use sph_core::solver::first_non_finite;
 use sph_core::state::{
     restore_probes, restore_series, save_probes, save_series, StateReader, StateWriter,
 };
+use sph_core::tool::{RigidTool, ToolSet};
 use sph_core::{
     Body, CellGrid, Constraints, Dim, EnergyBudget, Error, Field, Kernel, Loads, NeighborList,
     PairKernel, Probe, Series, Solver, StepInfo, WendlandC2,
@@ -139,6 +140,8 @@ pub struct UlSolver<D: Dim> {
     contact: Option<Contact<D>>,
     /// Contact force on each body, recorded with the probes.
     series: Vec<Series>,
+    /// Rigid tools in kinematic contact (with friction where a tool has it) with the bodies.
+    tools: ToolSet<D>,
     // Energy budget: work accumulated since t = 0, the total at t = 0, and per particle the
     // Riemann-dissipation and artificial-stress accelerations of the last force evaluation
     // and the load accelerations.
@@ -242,6 +245,26 @@ impl<D: Dim> UlSolver<D> {
         Ok(self)
     }
 
+    /// Attaches rigid tools in kinematic contact with the bodies, frictionless or with Coulomb
+    /// friction ([`sph_core::tool`], [`sph_core::friction`]): after each acoustic step's kick
+    /// and velocity constraints, the new velocity looks ahead one acoustic step from the
+    /// half-step positions (the step of TL's tools), with the contact offset `dp/2` (UL carries
+    /// no deformation gradient). Each tool records its series `/series/<name>` with the probes;
+    /// the budget gains the terms `tool_contact` and `friction` (minus the tools' work on the
+    /// body), the summary `tool_contact_work`, `friction_work`, `friction_dissipated`.
+    ///
+    /// # Errors
+    /// As [`ToolSet::new`]: a tool name that is not a name or is used twice, a tool at or above
+    /// the sound speed.
+    pub fn with_tools(mut self, tools: Vec<RigidTool<D>>) -> Result<Self, Error> {
+        let names: Vec<&str> = self.constraints.named().map(|(_, n)| n).collect();
+        let mut set = ToolSet::new(tools, &names, self.c0)?;
+        set.reset_series(self.time);
+        self.tools = set;
+        self.reset_budget();
+        Ok(self)
+    }
+
     /// Sets the budget's reference total to the current energies (while at `t = 0`).
     fn reset_budget(&mut self) {
         if self.steps == 0 {
@@ -291,7 +314,8 @@ impl<D: Dim> UlSolver<D> {
     }
 
     fn record_if_due(&mut self) {
-        if (!self.probes.is_empty() || !self.series.is_empty()) && self.schedule.due(self.time) {
+        let recorded = !(self.series.is_empty() && self.tools.is_empty());
+        if (!self.probes.is_empty() || recorded) && self.schedule.due(self.time) {
             self.record_probes();
         }
     }
@@ -305,6 +329,9 @@ impl<D: Dim> UlSolver<D> {
                 let row: Vec<f64> = (0..D::D).map(|k| D::component(f, k)).collect();
                 s.push(self.time, &row);
             }
+        }
+        if !self.tools.is_empty() {
+            self.tools.record(self.time);
         }
     }
 
@@ -463,7 +490,7 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
     /// `acoustic_steps`, `neighbour_rebuilds`, `isolated_max`, `momentum_balance` (the norm of
     /// [`UlSolver::momentum_balance`], unscaled) and `first_isolation_time` (NaN: none).
     fn figures(&self) -> Vec<(&'static str, f64)> {
-        vec![
+        let mut figures = vec![
             ("acoustic_steps", self.acoustic_steps as f64),
             ("neighbour_rebuilds", self.rebuilds as f64),
             ("isolated_max", self.isolated_max as f64),
@@ -472,7 +499,9 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
                 "first_isolation_time",
                 self.first_isolation.unwrap_or(f64::NAN),
             ),
-        ]
+        ];
+        figures.extend(self.tools.figures());
+        figures
     }
 
     /// The step and the first acoustic sub-step the current speeds allow, against
@@ -682,7 +711,10 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         self.params.energy_budget.then(|| self.energy_budget_now())
     }
 
+    /// The contact-force series of the bodies, then the tools' series.
     fn series(&self) -> Vec<Series> {
-        self.series.clone()
+        let mut all = self.series.clone();
+        all.extend(self.tools.series().iter().cloned());
+        all
     }
 }

@@ -7,6 +7,7 @@ pub mod colliding_balls_3d;
 pub mod colliding_rings_2d;
 pub mod hertz_impact_3d;
 pub mod impact_common;
+pub mod incline_block;
 pub mod mps_common;
 pub mod oscillating_plate_2d;
 pub mod oscillating_plate_3d;
@@ -43,4 +44,5 @@ pub static ALL: &[&dyn Case] = &[
     &hertz_impact_3d::HertzImpact3d,
     &cantilever_plate_2d::CantileverPlate2d,
     &static_cantilever_2d::StaticCantilever2d,
+    &incline_block::InclineBlock,
 ];

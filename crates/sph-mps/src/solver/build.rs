@@ -7,6 +7,7 @@ use crate::wls::{self, weight, Fit};
 use rayon::prelude::*;
 use sph_core::neighbor::CellGrid;
 use sph_core::scene::ProbeSchedule;
+use sph_core::tool::ToolSet;
 use sph_core::{Body, Constraints, Dim, Error, Loads};
 use sph_materials::Material;
 
@@ -132,6 +133,8 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             pressures: Vec::new(),
             contact: None,
             contact_energy: 0.0,
+            tools: ToolSet::default(),
+            free: vec![true; n],
             stabilisation,
             stabilisation_energy: 0.0,
             probes: Vec::new(),

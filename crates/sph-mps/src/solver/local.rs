@@ -29,6 +29,13 @@ pub fn distribute<D: Dim, M: Material<D>>(
     solver: MpsSolver<D, M>,
     comm: Arc<dyn sph_core::comm::Communicator>,
 ) -> Result<DistributedSolver<D, MpsSolver<D, M>>, Error> {
+    if !solver.tools.is_empty() {
+        return Err(Error::invalid(
+            "ranks",
+            comm.size(),
+            "1 for an MPS run with rigid tools (not distributed yet)",
+        ));
+    }
     if solver.contact.is_some() {
         return Err(Error::invalid(
             "ranks",

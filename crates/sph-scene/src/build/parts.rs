@@ -779,7 +779,22 @@ impl Scene {
             }
             .map_err(|e| self.error_in(&at("shape"), &key("shape"), e.to_string()))?;
             let motion = self.tool_motion::<D>(&at, &key, s)?;
-            out.push(RigidTool::new(&s.name, shape, motion));
+            // One coefficient given: the other is the same (no static excess).
+            let mu_s = s.friction_static.or(s.friction_kinetic).unwrap_or(0.0);
+            let mu_k = s.friction_kinetic.or(s.friction_static).unwrap_or(0.0);
+            let friction = Friction::new(mu_s, mu_k).map_err(|e| {
+                let field = match &e {
+                    sph_core::Error::InvalidParameter { field, .. } => field.clone(),
+                    _ => "friction_static".into(),
+                };
+                let name = if field == "friction_kinetic" {
+                    "friction_kinetic"
+                } else {
+                    "friction_static"
+                };
+                self.error_in(&at(name), &key(name), e.to_string())
+            })?;
+            out.push(RigidTool::new(&s.name, shape, motion).with_friction(friction));
         }
         Ok(out)
     }

@@ -8,6 +8,7 @@ use crate::reference_pairs::{PairScalar, ReferencePairs};
 use sph_core::correction::correction_matrices_counted;
 use sph_core::neighbor::CellGrid;
 use sph_core::scene::ProbeSchedule;
+use sph_core::tool::ToolSet;
 use sph_core::{Body, Constraints, Dim, Error, Kernel, Loads, NeighborList, WendlandC2};
 use sph_materials::Material;
 
@@ -154,12 +155,10 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             pressures: Vec::new(),
             probes: Vec::new(),
             schedule: ProbeSchedule::every(0.0)?,
-            tools: Vec::new(),
-            tool_meters: Vec::new(),
+            tools: ToolSet::default(),
             grip_meters: Vec::new(),
             series: Vec::new(),
             relaxation: None,
-            tool_contacts: Vec::new(),
             held_axes: [false; 3],
             dp: body.dp,
             time: 0.0,

@@ -12,57 +12,32 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         } else {
             &["force_x", "force_y", "force_z"]
         };
-        let mut series = Vec::new();
-        for t in &self.tools {
-            let mut columns = vec!["displacement"];
-            columns.extend_from_slice(axes);
-            columns.push("contacts");
-            // A tool off a straight line: its displacement vector, and the angle it turned.
-            if !t.motion.is_straight() {
-                columns.extend_from_slice(
-                    &["displacement_x", "displacement_y", "displacement_z"][..D::D],
-                );
-            }
-            if t.motion.rotation().is_some() {
-                columns.push("angle");
-            }
-            series.push(Series::new(&t.name, &columns).with_description(conventions::TOOL_SERIES));
-        }
         let pos: &[&str] = if D::D == 2 {
             &["x", "y"]
         } else {
             &["x", "y", "z"]
         };
+        let mut series = Vec::new();
         for (_, name) in self.constraints.named() {
             let mut columns = pos.to_vec();
             columns.extend_from_slice(axes);
             series.push(Series::new(name, &columns).with_description(conventions::GRIP_SERIES));
         }
         self.series = series;
-        self.tool_contacts = vec![0; self.tools.len()];
-        self.record_series();
+        self.tools.reset_series(self.time);
+        self.record_grip_series();
     }
 
     /// Appends one row to every series: tools' travel, mean reactions since the last row.
     pub(super) fn record_series(&mut self) {
+        self.tools.record(self.time);
+        self.record_grip_series();
+    }
+
+    /// Appends one row to every grip's series: mean position, mean reaction since the last row.
+    fn record_grip_series(&mut self) {
         let t = self.time;
         let mut row = Vec::with_capacity(8);
-        for (k, tool) in self.tools.iter().enumerate() {
-            row.clear();
-            row.push(tool.motion.distance(t));
-            let f = self.tool_meters[k].take_mean();
-            row.extend((0..D::D).map(|c| D::component(f, c)));
-            row.push(self.tool_contacts[k] as f64);
-            if !tool.motion.is_straight() {
-                let u = tool.motion.displacement(t);
-                row.extend((0..D::D).map(|c| D::component(u, c)));
-            }
-            if tool.motion.rotation().is_some() {
-                row.push(tool.motion.angle(t));
-            }
-            self.series[k].push(t, &row);
-        }
-        let offset = self.tools.len();
         let named: Vec<usize> = self.constraints.named().map(|(k, _)| k).collect();
         for (g, k) in named.into_iter().enumerate() {
             let particles = self.constraints.get(k).expect("named").particles();
@@ -75,7 +50,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             row.extend((0..D::D).map(|c| D::component(mean, c)));
             let f = self.grip_meters[g].take_mean();
             row.extend((0..D::D).map(|c| D::component(f, c)));
-            self.series[offset + g].push(t, &row);
+            self.series[g].push(t, &row);
         }
     }
 

@@ -7,7 +7,7 @@ use crate::reference_pairs::with_pair_rows;
 use sph_core::pressure::{ResolvedPressure, SurfacePressure};
 use sph_core::relaxation::{PairwiseDamper, PairwiseDamping};
 use sph_core::scene::ProbeSchedule;
-use sph_core::tool::{ReactionMeter, RigidTool};
+use sph_core::tool::{ReactionMeter, RigidTool, ToolSet};
 use sph_core::{Constraints, Dim, Error, Kernel, Loads, Probe, Solver};
 use sph_materials::Material;
 
@@ -25,43 +25,19 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         self
     }
 
-    /// Attaches rigid tools in frictionless kinematic contact with the body (see
-    /// [`sph_core::tool`]): contact offset `dp/2`, applied after the velocity update, looking
-    /// ahead one step from the half-step positions. Each tool records its travel and the mean reaction force it
-    /// receives over each probe interval as the series `/series/<name>`.
+    /// Attaches rigid tools in kinematic contact with the body, frictionless or with Coulomb
+    /// friction (see [`sph_core::tool`] and [`sph_core::friction`]): contact offset the deformed
+    /// half cell, applied after the velocity update, looking ahead one step from the half-step
+    /// positions. Each tool records its travel, the mean reaction force it receives over each
+    /// probe interval (and with friction its tangential part and the sticking fraction) as the
+    /// series `/series/<name>`.
     ///
     /// # Errors
-    /// A tool name that is not a name ([`sph_core::error::check_name`]); two tools (or a tool
-    /// and a named constraint) with the same name; a tool at or above the body's sound speed.
+    /// As [`ToolSet::new`]: a tool name that is not a name, two tools (or a tool and a named
+    /// constraint) with the same name, a tool at or above the body's sound speed.
     pub fn with_tools(mut self, tools: Vec<RigidTool<D>>) -> Result<Self, Error> {
-        let mut names: Vec<&str> = self.constraints.named().map(|(_, n)| n).collect();
-        for t in &tools {
-            sph_core::error::check_name("tool name", &t.name)?;
-            // Eq 33's step follows the body's wave speed, not the tool's: a tool faster than
-            // sound outruns the contact and collapses the step within a few dozen steps.
-            let speed = t.max_speed();
-            if speed >= self.sound_speed {
-                return Err(Error::invalid(
-                    &format!("speed of tool `{}`", t.name),
-                    sph_core::error::Num(speed),
-                    &format!(
-                        "0 <= tool speed < {} m/s, the body's sound speed c0 (a faster tool \
-                         outruns the contact)",
-                        sph_core::error::Num(self.sound_speed)
-                    ),
-                ));
-            }
-            if names.contains(&t.name.as_str()) {
-                return Err(Error::invalid(
-                    "tool name",
-                    format!("{:?}", t.name),
-                    "non-empty and unique among the body's tools and named constraints",
-                ));
-            }
-            names.push(&t.name);
-        }
-        self.tool_meters = vec![ReactionMeter::default(); tools.len()];
-        self.tools = tools;
+        let names: Vec<&str> = self.constraints.named().map(|(_, n)| n).collect();
+        self.tools = ToolSet::new(tools, &names, self.sound_speed)?;
         self.rebuild_series();
         self.update_stretch_extremes();
         Ok(self)

@@ -85,6 +85,7 @@ impl<D: Dim> UlSolver<D> {
             rebuild_positions: Vec::new(),
             contact: None,
             series: Vec::new(),
+            tools: ToolSet::default(),
             work: AccumulatedWork::default(),
             initial_total: 0.0,
             initial_momentum: D::zero(),

@@ -81,14 +81,22 @@ impl<D: Dim> UlSolver<D> {
         let contact = self.contact.as_ref().map_or(0.0, |c| {
             c.energy(&self.positions, &self.masses, &self.kernel, self.rho0)
         });
-        ul_budget(
+        let mut budget = ul_budget(
             &self.energy(),
             contact,
             &self.work,
             matches!(self.variant, Variant::NonNested { .. }),
             self.tracks_stress,
             self.initial_total,
-        )
+        );
+        // The tools' terms (minus their work on the body), only where there are tools.
+        budget.terms.extend(self.tools.budget_terms());
+        if !self.tools.is_empty() {
+            budget
+                .notes
+                .push(("friction_dissipated", self.tools.work().friction_dissipated));
+        }
+        budget
     }
 
     /// The disorder indicator of docs/methods.md per particle (current order), accumulated since

@@ -61,6 +61,7 @@ impl<D: Dim> UlSolver<D> {
             &[self.initial_momentum, self.constraint_impulse],
         );
         save_series(out, &self.series);
+        self.tools.save(out);
         Ok(())
     }
 
@@ -119,6 +120,7 @@ impl<D: Dim> UlSolver<D> {
         let m = input.vectors::<D>("momentum_balance", Some(2))?;
         (self.initial_momentum, self.constraint_impulse) = (m[0], m[1]);
         restore_series(input, &mut self.series)?;
+        self.tools.restore(input)?;
         self.check_finite()
     }
 }

@@ -578,12 +578,36 @@ impl<D: Dim> UlSolver<D> {
         self.time += dt;
         self.constraints
             .apply_to_velocities(self.time, &mut self.velocities);
+        if !self.tools.is_empty() {
+            self.enforce_tool_contact(dt);
+        }
         // Rates with v^{n+1}, then eq 25 and eq 20 (A_s accumulated, never reset; used by the
         // next step), in the same pass.
         self.max_speed = self.compute_rates(Some((half, dt)));
         self.acoustic_steps += 1;
         self.pair_visits +=
             (self.list.num_pairs() + self.contact.as_ref().map_or(0, |c| c.num_pairs())) as u64;
+    }
+
+    /// Contact with the rigid tools after the kick of an acoustic step `dt` (the time already
+    /// advanced): the new velocity drifts the particles for `dt` (this step's second half-drift
+    /// and the next step's first, at the acoustic step of now) before it changes again, so the
+    /// contact looks ahead by `dt` from `x^{n+1/2}` to `t^{n+1} + dt/2`, with the offset `dp/2`.
+    fn enforce_tool_contact(&mut self, dt: f64) {
+        let half_dp = 0.5 * self.kernel.h() / self.params.h_over_dp;
+        self.tools.begin_step();
+        self.tools.enforce(
+            self.time + 0.5 * dt,
+            dt,
+            |_, _| half_dp,
+            half_dp,
+            &self.positions,
+            &mut self.velocities,
+            &self.masses,
+            &self.free,
+            true,
+        );
+        self.tools.end_step(dt);
     }
 
     /// The kick of eq 24, adding the work of this step's force parts to the budget (see
