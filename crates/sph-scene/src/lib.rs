@@ -82,5 +82,5 @@ pub mod reference;
 mod resolve;
 pub mod spec;
 
-pub use build::{numerics_keys, Scene, SceneError};
+pub use build::{numerics_keys, BodyPreview, Preview, Scene, SceneError};
 pub use resolve::Override;

@@ -6,6 +6,7 @@
 //! cargo run --release -p sph-validation --bin validate -- ul [--fine] [--force]
 //! cargo run --release -p sph-validation --bin validate -- extreme [--short] [--force]
 //! cargo run --release -p sph-validation --bin validate -- impacts [--fine] [--paper] [--force]
+//! cargo run --release -p sph-validation --bin validate -- geometry [--force]
 //! cargo run --release -p sph-validation --bin validate -- report
 //! ```
 //! Runs are stored under `validation/results/` and reused unless `--force`; `report` only reads
@@ -17,7 +18,8 @@
 
 use clap::{Parser, Subcommand};
 use sph_validation::{
-    extreme, h5report, impacts, mps, mps_stab, plot, store, tl, tradeoff, ul, workspace_root,
+    extreme, geometry, h5report, impacts, mps, mps_stab, plot, store, tl, tradeoff, ul,
+    workspace_root,
 };
 use std::fmt::Write as _;
 use std::process::ExitCode;
@@ -110,6 +112,13 @@ enum Command {
         #[arg(long)]
         only: Option<String>,
     },
+    /// Meshes (sphere, torus, cube) filled with body-fitted particles against their analytic
+    /// volumes and surfaces, relaxation off and on, then the report.
+    Geometry {
+        /// Re-run stored results.
+        #[arg(long)]
+        force: bool,
+    },
     /// Regenerate docs/validation.md from the stored runs.
     Report,
 }
@@ -176,6 +185,12 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
     }
+    if let Command::Geometry { force } = cli.command {
+        if let Err(e) = geometry::run_all(force) {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    }
     if cli.plan {
         return ExitCode::SUCCESS;
     }
@@ -216,6 +231,7 @@ fn report() -> Result<(), String> {
     ul::report(&mut md, &figs, "validation")?;
     extreme::report(&mut md, &figs, "validation")?;
     impacts::report(&mut md, &figs, "validation")?;
+    geometry::report(&mut md)?;
     let out = docs.join("validation.md");
     let tmp = docs.join("validation.md.tmp");
     std::fs::write(&tmp, &md).map_err(|e| e.to_string())?;

@@ -3,12 +3,12 @@
 //! and supports, permutation, nearest particle, multi-body merging and input validation.
 
 use glam::{DVec2, DVec3};
-use sph_core::generate::{
+use sph_core::neighbor::invert_permutation;
+use sph_core::{Error, D2, D3};
+use sph_geometry::generate::{
     annulus_lattice, annulus_polar, hollow_sphere, hollow_sphere_polar, nearest_distances,
     tube_polar, Aabb, Annulus, Cylinder, HollowSphere, Lattice, ParticleSet, Shape,
 };
-use sph_core::neighbor::invert_permutation;
-use sph_core::{Error, D2, D3};
 use std::f64::consts::PI;
 
 fn v2(x: f64, y: f64) -> DVec2 {
@@ -667,4 +667,30 @@ fn generators_refuse_counts_beyond_the_budget_before_allocating() {
             assert!(hollow_sphere_polar(v3(0.0, 0.0, 0.0), 0.0, 1.0, 0.25).is_ok());
         },
     );
+}
+
+/// The surface detection of sph-core on the polar rings generated here (moved from sph-core's
+/// unit tests with the generators).
+mod surface_of_generated_sets {
+    use sph_core::glam::DVec2;
+    use sph_core::surface::surface_of;
+    use sph_core::D2;
+    use sph_geometry::generate::annulus_polar;
+
+    #[test]
+    fn a_ring_has_its_inner_and_outer_layers_on_the_surface_with_radial_normals() {
+        let set = annulus_polar(DVec2::ZERO, 1.0, 2.0, 0.1).unwrap();
+        let all: Vec<u32> = (0..set.len() as u32).collect();
+        let s = surface_of::<D2>(set.positions(), 0.1, &all).unwrap();
+        let inner = set.tagged("inner").unwrap();
+        let outer = set.tagged("outer").unwrap();
+        assert_eq!(s.len(), inner.len() + outer.len());
+        for p in &s {
+            let x = set.positions()[p.index as usize];
+            let radial = x.normalize();
+            let sign = if inner.contains(&p.index) { -1.0 } else { 1.0 };
+            // The polar layers are not exactly symmetric about each particle: within 2°.
+            assert!(p.normal.dot(radial * sign) > 2f64.to_radians().cos(), "{x}");
+        }
+    }
 }
