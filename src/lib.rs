@@ -7,7 +7,7 @@
 //! - the Hamiltonian moving-particle model ([`mps`]).
 //!
 //! This crate gathers the workspace's crates under one name and offers a [`prelude`] with what
-//! a scene needs: shapes and generators, bodies, materials, the solvers, constraints, loads,
+//! a scene needs: shapes and generators, meshes and outlines ([`geometry`]), bodies, materials, the solvers, constraints, loads,
 //! probes, rigid tools, and the run loop that writes HDF5 results ([`driver::Run`]). Scenes can
 //! also be written as TOML files ([`scene`]) and run by `sph run scene.toml`.
 //!
@@ -33,6 +33,7 @@
 pub use glam;
 pub use sph_core as core;
 pub use sph_driver as driver;
+pub use sph_geometry as geometry;
 pub use sph_materials as materials;
 pub use sph_mps as mps;
 pub use sph_output as output;
@@ -43,10 +44,6 @@ pub use sph_ul as ul;
 /// What a scene needs, in one `use sph_solids::prelude::*;`.
 pub mod prelude {
     pub use glam::{DMat2, DMat3, DVec2, DVec3};
-    pub use sph_core::generate::{
-        annulus_lattice, annulus_polar, hollow_sphere, tube_polar, Aabb, Annulus, Cylinder,
-        Difference, HollowSphere, Intersection, Lattice, ParticleSet, Shape, Union,
-    };
     pub use sph_core::relaxation::PairwiseDamping;
     pub use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
     pub use sph_core::{
@@ -54,6 +51,13 @@ pub mod prelude {
         D3,
     };
     pub use sph_driver::{Run, RunOptions, RunRecord};
+    pub use sph_geometry::fit::{fit, FitOptions, FitReport};
+    pub use sph_geometry::generate::{
+        annulus_lattice, annulus_polar, hollow_sphere, tube_polar, Aabb, Annulus, Cylinder,
+        Difference, HollowSphere, Intersection, Lattice, ParticleSet, Shape, Union,
+    };
+    pub use sph_geometry::mesh::{MeshSolid, Placement, TriMesh};
+    pub use sph_geometry::outline::OutlineSolid;
     pub use sph_materials::{
         ElasticConstants, KirchhoffVolDev, Material, MaterialKind, MaterialModel, MooneyRivlinLike,
         NeoHookean, SaintVenantKirchhoff,

@@ -157,3 +157,31 @@ fn no_library_source_reads_a_file_outside_its_crate_at_compile_time() {
     }
     let _ = checked;
 }
+
+#[test]
+fn the_facade_re_exports_every_library_crate_a_program_builds_with() {
+    let m = manifest(&root());
+    let deps = m["dependencies"].as_table().unwrap();
+    let lib = std::fs::read_to_string(root().join("src/lib.rs")).unwrap();
+    for name in [
+        "sph-core",
+        "sph-geometry",
+        "sph-materials",
+        "sph-tl",
+        "sph-ul",
+        "sph-mps",
+        "sph-driver",
+        "sph-output",
+        "sph-scene",
+    ] {
+        assert!(
+            deps.contains_key(name),
+            "the facade does not depend on {name}"
+        );
+        let module = name.replace('-', "_");
+        assert!(
+            lib.contains(&format!("pub use {module} as ")),
+            "src/lib.rs does not re-export {module}"
+        );
+    }
+}

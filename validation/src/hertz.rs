@@ -11,8 +11,8 @@ use crate::store::{fmt_opt, load, pct, rel, run_or_load_then, StoredRun};
 use serde_json::{Map, Value};
 use sph_cases::cases::hertz_impact_3d::{hertz_force_history, HertzTarget};
 use sph_cases::CaseError;
-use sph_core::generate::{hollow_sphere, hollow_sphere_polar, nearest_distances};
 use sph_core::D3;
+use sph_geometry::generate::{hollow_sphere, hollow_sphere_polar, nearest_distances};
 use sph_output::FileContents;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -437,7 +437,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
     writeln!(
         md,
         "**Particle layout of the balls.** `layers` = concentric spherical layers, each a \
-         Fibonacci lattice (`sph_core::generate::hollow_sphere_polar`); `lattice` = a cubic \
+         Fibonacci lattice (`sph_geometry::generate::hollow_sphere_polar`); `lattice` = a cubic \
          lattice cut (`hollow_sphere`). Nearest-neighbour distance / dp (min, mean, max) and \
          the radial spread of the particles in the outermost dp (0 = a smooth sphere, ≈ 1 = a \
          staircase), computed by `validate report`:\n"

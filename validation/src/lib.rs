@@ -11,6 +11,7 @@ pub mod extreme;
 pub mod features;
 pub mod fem_plate;
 pub mod frames;
+pub mod geometry;
 pub mod h5report;
 pub mod hertz;
 pub mod impacts;

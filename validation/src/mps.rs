@@ -241,8 +241,8 @@ pub fn bending_stiffness_ratio_with(
     fit: sph_mps::Fit,
 ) -> Result<f64, String> {
     use glam::DVec2;
-    use sph_core::generate::{Aabb, Lattice, ParticleSet};
     use sph_core::D2;
+    use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
     use sph_materials::{ElasticConstants, Material, MaterialKind};
     let (l, h, e, nu) = (0.16, 0.02, 1e5, 0.3);
     let dp = h / res as f64;

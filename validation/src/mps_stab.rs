@@ -465,7 +465,7 @@ fn p99_max(r: &StoredRun) -> f64 {
 pub fn ring_disorder_floor(outer: f64, r_inner: f64, alpha: f64) -> Result<(f64, f64), String> {
     use glam::DVec2;
     use sph_materials::{Material, MaterialModel, MooneyRivlinLike};
-    let set = sph_core::generate::annulus_polar(DVec2::ZERO, 1.5, outer, 0.1)
+    let set = sph_geometry::generate::annulus_polar(DVec2::ZERO, 1.5, outer, 0.1)
         .map_err(|e| e.to_string())?;
     let reference = set.positions().to_vec();
     let inner = set.tagged("inner").map_err(|e| e.to_string())?;

@@ -29,6 +29,7 @@ pub mod error;
 pub mod mpi_ranks;
 pub mod params;
 pub mod preflight;
+pub mod preview;
 pub mod process;
 pub mod runner;
 

@@ -1,22 +1,24 @@
 //! The particles of one body in their initial configuration: what every solver is built from.
+//! The `sph-geometry` crate makes them from shapes, lattices, meshes and outlines
+//! (`Body::from(set)` for its `ParticleSet`); here, by hand:
 //!
 //! ```
-//! use sph_core::generate::{Aabb, Lattice, ParticleSet};
 //! use sph_core::{Body, D2};
 //! use glam::DVec2;
 //!
 //! // A 0.2 × 0.02 plate on a lattice of spacing 1 mm, moving up at 1 m/s.
-//! let shape = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(0.2, 0.02))?;
-//! let set = ParticleSet::fill(&Lattice::new(1e-3, DVec2::ZERO)?, &shape)?;
-//! let body = Body::from(set).with_velocity(|_| DVec2::new(0.0, 1.0));
+//! let dp = 1e-3;
+//! let x: Vec<DVec2> = (0..20)
+//!     .flat_map(|j| (0..200).map(move |i| DVec2::new(i as f64 + 0.5, j as f64 + 0.5) * dp))
+//!     .collect();
+//! let n = x.len();
+//! let body = Body::<D2>::new(x, vec![dp * dp; n], dp).with_velocity(|_| DVec2::new(0.0, 1.0));
 //! assert_eq!(body.len(), 200 * 20);
-//! assert_eq!(body.dp, 1e-3);
-//! # Ok::<(), sph_core::Error>(())
+//! assert!(body.validate("plate").is_ok());
 //! ```
 
 use crate::dim::Dim;
 use crate::error::{check_positive, Error};
-use crate::generate::ParticleSet;
 
 /// The particles of one body: initial positions (the reference configuration of the
 /// total-Lagrangian methods), volumes, the spacing `dp` that sets the kernel, and optional
@@ -46,12 +48,6 @@ impl<D: Dim> Body<D> {
             velocities: Vec::new(),
             densities: Vec::new(),
         }
-    }
-
-    /// The body of a generated set with spacing `dp`.
-    pub fn from_set(set: ParticleSet<D>, dp: f64) -> Self {
-        let (positions, volumes, _) = set.into_parts();
-        Self::new(positions, volumes, dp)
     }
 
     /// With initial velocities `v(x)` (evaluated at each initial position).
@@ -167,18 +163,6 @@ impl<D: Dim> Body<D> {
     }
 }
 
-/// A generated set becomes a body with the spacing its generator used
-/// ([`ParticleSet::spacing`]), or, for a set assembled from parts, `(mean volume)^(1/d)`.
-impl<D: Dim> From<ParticleSet<D>> for Body<D> {
-    fn from(set: ParticleSet<D>) -> Self {
-        let dp = set.spacing().unwrap_or_else(|| {
-            let n = set.len().max(1) as f64;
-            (set.total_volume() / n).powf(1.0 / D::D as f64)
-        });
-        Self::from_set(set, dp)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -207,12 +191,5 @@ mod tests {
             .is_err());
         let e = Body::<D2>::new(vec![DVec2::ZERO], vec![1.0], -1.0).validate("b");
         assert!(e.unwrap_err().to_string().contains("dp"));
-    }
-
-    #[test]
-    fn a_set_from_parts_gets_the_spacing_of_its_mean_volume() {
-        let set = ParticleSet::<D2>::from_parts(vec![DVec2::ZERO; 2], vec![0.04, 0.04]).unwrap();
-        let b = Body::from(set);
-        assert!((b.dp - 0.2).abs() < 1e-15);
     }
 }

@@ -1,4 +1,4 @@
-//! The particle budget: the generators of [`crate::generate`] check it **before** they
+//! The particle budget: the generators of `sph_geometry::generate` check it **before** they
 //! allocate, so parameters that would need more particles than the machine can hold stop with
 //! one clear error (the estimate and the limit) instead of aborting on an allocation failure,
 //! panicking on a capacity overflow, or swapping for minutes.

@@ -22,6 +22,14 @@ pub enum Error {
         /// Name of the body.
         body: String,
     },
+    /// A geometry file (mesh, outline) that cannot be read or filled.
+    #[error("{file}: {message}")]
+    Geometry {
+        /// The file (or the name given to an in-memory mesh).
+        file: String,
+        /// What is wrong, with the counts that show it.
+        message: String,
+    },
     /// A particle has too few neighbours for the method (e.g. the correction matrix).
     #[error("particle {particle} has {found} neighbours; the method needs at least {required}")]
     TooFewNeighbours {

@@ -200,22 +200,20 @@ impl PairwiseDamper {
 mod tests {
     use super::*;
     use crate::dim::D2;
-    use crate::generate::{Aabb, Lattice, ParticleSet};
     use crate::kernel::{Kernel, WendlandC2};
     use crate::neighbor::CellGrid;
+    use crate::testing::cell_centres;
     use glam::DVec2;
 
     fn block() -> (NeighborList, Vec<DVec2>, WendlandC2<D2>, Vec<f64>, Vec<f64>) {
         let dp = 0.1;
-        let shape = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(1.0, 0.6)).unwrap();
-        let set = ParticleSet::fill(&Lattice::new(dp, DVec2::ZERO).unwrap(), &shape).unwrap();
+        let x = cell_centres::<D2>([10, 6, 1], dp);
         let k = WendlandC2::<D2>::from_spacing(dp, 1.15).unwrap();
-        let x = set.positions().to_vec();
         let list = CellGrid::<D2>::build(&x, k.cutoff())
             .unwrap()
             .neighbor_list(&x, k.cutoff())
             .unwrap();
-        let volumes = set.volumes().to_vec();
+        let volumes = vec![dp * dp; x.len()];
         let masses = volumes.iter().map(|v| 1000.0 * v).collect();
         (list, x, k, volumes, masses)
     }

@@ -515,11 +515,14 @@ impl<D: Dim> Probe<D> {
     /// `h = 1.3 dp` (what scene files use, whatever the method).
     ///
     /// ```
-    /// use sph_core::generate::{Aabb, Lattice, ParticleSet};
     /// use sph_core::{glam::DVec2, Body, Probe, D2};
     ///
-    /// let plate = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(0.1, 0.01))?;
-    /// let body = Body::from(ParticleSet::fill(&Lattice::new(1e-3, DVec2::ZERO)?, &plate)?);
+    /// // A 0.1 × 0.01 plate, 100 × 10 particles (sph-geometry's lattice fill, by hand).
+    /// let dp = 1e-3;
+    /// let x: Vec<DVec2> = (0..10)
+    ///     .flat_map(|j| (0..100).map(move |i| DVec2::new(i as f64 + 0.5, j as f64 + 0.5) * dp))
+    ///     .collect();
+    /// let body = Body::<D2>::new(x, vec![dp * dp; 1000], dp);
     /// let tip = Probe::at("tip", DVec2::new(0.1, 0.005), &body)?.with_fields(&["von_mises"]);
     /// assert_eq!(tip.fields, ["von_mises"]);
     /// # Ok::<(), sph_core::Error>(())

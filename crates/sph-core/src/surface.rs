@@ -14,15 +14,16 @@
 //! The kernel is the Wendland C2 with `h = 1.3 dp` (support `2h`), as for point probes.
 //!
 //! ```
-//! use sph_core::generate::{Aabb, Lattice, ParticleSet};
 //! use sph_core::surface::surface_of;
 //! use sph_core::{glam::DVec2, D2};
 //!
+//! // A 0.01 × 0.005 block: 10 × 5 particles at the cell centres of a 1 mm lattice.
 //! let dp = 1e-3;
-//! let block = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(0.01, 0.005))?;
-//! let set = ParticleSet::fill(&Lattice::new(dp, DVec2::ZERO)?, &block)?;
-//! let top_rows = set.select(|x| x.y > 0.003);       // the two top rows of particles
-//! let top = surface_of::<D2>(set.positions(), dp, &top_rows)?;
+//! let x: Vec<DVec2> = (0..5)
+//!     .flat_map(|j| (0..10).map(move |i| DVec2::new(i as f64 + 0.5, j as f64 + 0.5) * dp))
+//!     .collect();
+//! let top_rows: Vec<u32> = (0..50).filter(|&i| x[i as usize].y > 0.003).collect(); // two rows
+//! let top = surface_of::<D2>(&x, dp, &top_rows)?;
 //! assert_eq!(top.len(), 10 + 2);             // the top row, and the sides of the row below
 //! assert!(top.iter().all(|s| s.normal.y > -1e-12));   // up, diagonal or sideways
 //! # Ok::<(), sph_core::Error>(())
@@ -118,14 +119,15 @@ pub fn surface_of<D: Dim>(
 /// of any number of layers, within `dp` for curved bodies.
 ///
 /// ```
-/// use sph_core::generate::{Aabb, Lattice, ParticleSet};
 /// use sph_core::surface::thickness;
 /// use sph_core::{glam::DVec2, D2};
 ///
+/// // A plate 20 particles long and 4 high, at cell centres of spacing dp.
 /// let dp = 1e-3;
-/// let plate = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(0.02, 0.004))?;
-/// let set = ParticleSet::fill(&Lattice::new(dp, DVec2::ZERO)?, &plate)?;
-/// assert!((thickness::<D2>(set.positions(), dp)? - 0.004).abs() < 1e-12);
+/// let plate: Vec<DVec2> = (0..80)
+///     .map(|k| DVec2::new((k % 20) as f64 + 0.5, (k / 20) as f64 + 0.5) * dp)
+///     .collect();
+/// assert!((thickness::<D2>(&plate, dp)? - 0.004).abs() < 1e-12);
 /// # Ok::<(), sph_core::Error>(())
 /// ```
 ///
@@ -207,20 +209,19 @@ pub fn thickness<D: Dim>(positions: &[D::Vector], dp: f64) -> Result<f64, Error>
 mod tests {
     use super::*;
     use crate::dim::{D2, D3};
-    use crate::generate::{annulus_polar, Aabb, Lattice, ParticleSet};
-    use glam::{DVec2, DVec3};
+    use crate::testing::cell_centres;
+    use glam::DVec2;
 
     #[test]
     fn the_outer_layer_of_a_box_is_the_surface_with_normals_along_the_faces() {
         let dp = 1.0;
-        let b = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(8.0, 5.0)).unwrap();
-        let set = ParticleSet::fill(&Lattice::new(dp, DVec2::ZERO).unwrap(), &b).unwrap();
-        let all: Vec<u32> = (0..set.len() as u32).collect();
-        let s = surface_of::<D2>(set.positions(), dp, &all).unwrap();
+        let x = cell_centres::<D2>([8, 5, 1], dp);
+        let all: Vec<u32> = (0..x.len() as u32).collect();
+        let s = surface_of::<D2>(&x, dp, &all).unwrap();
         // The perimeter of an 8 × 5 lattice: 2 (8 + 5) − 4 particles.
         assert_eq!(s.len(), 22);
         for p in &s {
-            let x = set.positions()[p.index as usize];
+            let x = x[p.index as usize];
             let edge = x.x < 1.0 || x.x > 7.0 || x.y < 1.0 || x.y > 4.0;
             assert!(edge, "{x}");
             if x.y > 4.0 && x.x > 2.6 && x.x < 5.4 {
@@ -232,67 +233,17 @@ mod tests {
     }
 
     #[test]
-    fn a_ring_has_its_inner_and_outer_layers_on_the_surface_with_radial_normals() {
-        let set = annulus_polar(DVec2::ZERO, 1.0, 2.0, 0.1).unwrap();
-        let all: Vec<u32> = (0..set.len() as u32).collect();
-        let s = surface_of::<D2>(set.positions(), 0.1, &all).unwrap();
-        let inner = set.tagged("inner").unwrap();
-        let outer = set.tagged("outer").unwrap();
-        assert_eq!(s.len(), inner.len() + outer.len());
-        for p in &s {
-            let x = set.positions()[p.index as usize];
-            let radial = x.normalize();
-            let sign = if inner.contains(&p.index) { -1.0 } else { 1.0 };
-            // The polar layers are not exactly symmetric about each particle: within 2°.
-            assert!(p.normal.dot(radial * sign) > 2f64.to_radians().cos(), "{x}");
-        }
-    }
-
-    /// A lattice slab of an even or odd number of layers is exactly its height; a ring its
-    /// wall, a ball its diameter (within a spacing: the surface layer of a curved body is not
-    /// at exactly dp/2 from the surface).
-    #[test]
-    fn thickness_is_the_thinnest_extent_of_a_slab_the_wall_of_a_ring_the_diameter_of_a_ball() {
-        let dp = 1.0;
-        let lattice2 = Lattice::new(dp, DVec2::ZERO).unwrap();
-        for layers in [1.0, 2.0, 3.0, 4.0, 7.0] {
-            let b = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(20.0, layers)).unwrap();
-            let set = ParticleSet::fill(&lattice2, &b).unwrap();
-            let t = thickness::<D2>(set.positions(), dp).unwrap();
-            assert!((t - layers).abs() < 1e-9, "{layers} layers: {t}");
-        }
-        let b = Aabb::<D3>::new(DVec3::ZERO, DVec3::new(8.0, 5.0, 4.0)).unwrap();
-        let set = ParticleSet::fill(&Lattice::new(dp, DVec3::ZERO).unwrap(), &b).unwrap();
-        let t = thickness::<D3>(set.positions(), dp).unwrap();
-        assert!((t - 4.0).abs() < 1e-9, "{t}");
-        let ring = annulus_polar(DVec2::ZERO, 1.0, 2.0, 0.1).unwrap();
-        let t = thickness::<D2>(ring.positions(), 0.1).unwrap();
-        assert!((t - 1.0).abs() < 0.1, "ring wall: {t}");
-        let disc = ParticleSet::fill(
-            &Lattice::new(0.1, DVec2::splat(-1.0)).unwrap(),
-            &crate::generate::FnShape::<D2, _>::new(
-                (DVec2::splat(-1.0), DVec2::ONE),
-                |x: DVec2| x.length() <= 1.0,
-            ),
-        )
-        .unwrap();
-        let t = thickness::<D2>(disc.positions(), 0.1).unwrap();
-        assert!((t - 2.0).abs() < 0.1, "disc: {t}");
-        assert!(thickness::<D2>(&[], dp).is_err());
-        assert!(thickness::<D2>(&[DVec2::ZERO], 0.0).is_err());
-    }
-
-    #[test]
     fn a_3d_face_is_one_layer() {
         let dp = 1.0;
-        let b = Aabb::<D3>::new(DVec3::ZERO, DVec3::new(4.0, 4.0, 4.0)).unwrap();
-        let set = ParticleSet::fill(&Lattice::new(dp, DVec3::ZERO).unwrap(), &b).unwrap();
-        let top = set.select(|x| x.z > 2.0);
-        let s = surface_of::<D3>(set.positions(), dp, &top).unwrap();
+        let x = cell_centres::<D3>([4, 4, 4], dp);
+        let top: Vec<u32> = (0..x.len() as u32)
+            .filter(|&i| x[i as usize].z > 2.0)
+            .collect();
+        let s = surface_of::<D3>(&x, dp, &top).unwrap();
         // The top face (16) and the upper rings of the four sides (12 of the second row).
         assert_eq!(s.len(), 16 + 12);
         assert!(s.iter().all(|p| p.normal.z >= 0.0));
-        assert!(surface_of::<D3>(set.positions(), 0.0, &top).is_err());
-        assert!(surface_of::<D3>(set.positions(), dp, &[9999]).is_err());
+        assert!(surface_of::<D3>(&x, 0.0, &top).is_err());
+        assert!(surface_of::<D3>(&x, dp, &[9999]).is_err());
     }
 }

@@ -14,7 +14,7 @@
 //! progress bar or log lines.
 //!
 //! ```
-//! use sph_core::generate::{Aabb, Lattice, ParticleSet};
+//! use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 //! use sph_core::{glam::DVec2, Body, Constraints, Probe, D2};
 //! use sph_driver::Run;
 //! use sph_materials::{ElasticConstants, NeoHookean};

@@ -22,7 +22,7 @@
 //!
 //! ```
 //! use glam::DVec2;
-//! use sph_core::generate::{Aabb, Lattice, ParticleSet};
+//! use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 //! use sph_core::{Body, Solver, D2};
 //! use sph_materials::{ElasticConstants, SaintVenantKirchhoff};
 //! use sph_mps::{MpsParams, MpsSolver};

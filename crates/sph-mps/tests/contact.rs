@@ -6,9 +6,9 @@ mod common;
 
 use common::*;
 use glam::DVec2;
-use sph_core::generate::ParticleSet;
 use sph_core::Body;
 use sph_core::{Solver, D2};
+use sph_geometry::generate::ParticleSet;
 use sph_mps::{Contact, MpsParams, MpsSolver};
 
 #[test]

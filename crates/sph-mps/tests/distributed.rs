@@ -4,8 +4,8 @@
 
 use glam::DVec2;
 use sph_core::comm::{Communicator, ThreadRanks};
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::{Body, Constraint, Constraints, Probe, Solver, WendlandC2, D2};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::{ElasticConstants, SaintVenantKirchhoff};
 use sph_mps::{distribute, Integrator, MpsParams, MpsSolver};
 use std::sync::Arc;

@@ -3,25 +3,28 @@
 
 use crate::resolve::{resolve, Override, Resolved};
 use crate::spec::{
-    AmplitudeSpec, BodySpec, ConstraintSpec, LoadSpec, MaterialSpec, SceneSpec, ShapeSpec,
-    ToolShapeSpec, ToolSpec,
+    AmplitudeSpec, BodySpec, ConstraintSpec, GeometryFileSpec, LoadSpec, MaterialSpec, SceneSpec,
+    ShapeSpec, ToolShapeSpec, ToolSpec,
 };
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
 use sph_core::error::Num;
 use sph_core::friction::Friction;
-use sph_core::generate::{
-    annulus_polar, tube_polar, Aabb, Difference, FnShape, Intersection, Lattice, ParticleSet,
-    Shape, Union,
-};
 use sph_core::pressure::{PressureFunction, SurfacePressure};
 use sph_core::relaxation::PairwiseDamping;
 use sph_core::surface::surface_of;
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::{
-    Amplitude, Body, Constraint, Constraints, Dim, Loads, Probe, Solver, TimeFunction, D2, D3,
+    Amplitude, Constraint, Constraints, Dim, Loads, Probe, Solver, TimeFunction, D2, D3,
 };
 use sph_driver::{drive, DriverError, RunOptions, RunRecord, Schedule};
+use sph_geometry::fit::{fit, FitOptions, FitReport, DEFAULT_RELAX_STEPS};
+use sph_geometry::generate::{
+    annulus_polar, tube_polar, Aabb, Difference, FnShape, Intersection, Lattice, ParticleSet,
+    Shape, Union,
+};
+use sph_geometry::mesh::Placement;
+use sph_geometry::FileSolid;
 use sph_materials::{
     DeviatorDimension, ElasticConstants, Material, MaterialKind, MaterialModel, MooneyRivlinLike,
 };
@@ -31,6 +34,9 @@ use toml::Spanned;
 
 mod checks;
 mod parts;
+mod preview;
+
+pub use preview::{BodyPreview, Preview};
 
 /// A scene error: the file, the line (when known), the key and what is wrong.
 #[derive(Clone, Debug, PartialEq)]
@@ -287,7 +293,7 @@ impl Scene {
             .iter()
             .enumerate()
             .map(|(k, b)| {
-                let (part, _) = self.body::<D>(k, b)?;
+                let (part, _, _) = self.body::<D>(k, b)?;
                 self.check_body_size(k, b, &part)?;
                 let dp = b.get_ref().dp;
                 let thickness = sph_core::surface::thickness::<D>(part.positions(), dp)
@@ -374,7 +380,7 @@ impl Scene {
         let mut dp = f64::INFINITY;
         let mut dps = Vec::new();
         for (k, b) in spec.bodies.iter().enumerate() {
-            let (part, v) = self.body::<D>(k, b)?;
+            let (part, v, _) = self.body::<D>(k, b)?;
             self.check_body_size(k, b, &part)?;
             let r = set
                 .extend(&part)
@@ -390,7 +396,7 @@ impl Scene {
             .collect();
         let constraints = self.constraints::<D>(&set, &ranges)?;
         let (loads, pressures) = self.loads::<D>(&set, &ranges, &dps)?;
-        let mut body = Body::from_set(set, dp).with_velocities(velocities);
+        let mut body = set.into_body(dp).with_velocities(velocities);
         if body.velocities.iter().all(|&v| v == D::zero()) {
             body.velocities.clear();
         }

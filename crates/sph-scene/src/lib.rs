@@ -82,5 +82,5 @@ pub mod reference;
 mod resolve;
 pub mod spec;
 
-pub use build::{numerics_keys, BodyThickness, Scene, SceneError, METHODS};
+pub use build::{numerics_keys, BodyPreview, BodyThickness, Preview, Scene, SceneError, METHODS};
 pub use resolve::Override;

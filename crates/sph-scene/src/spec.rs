@@ -152,6 +152,80 @@ pub enum ShapeSpec {
         /// What is removed.
         cut: Box<ShapeSpec>,
     },
+    /// A closed triangle mesh (3D): an STL (ASCII or binary) or Wavefront OBJ file, placed by
+    /// `x' = R (scale · x) + translate`.
+    Mesh {
+        /// The file, relative to the scene file.
+        file: String,
+        /// Scale factor (default 1; `1e-3` for a part drawn in millimetres).
+        scale: Option<f64>,
+        /// Rotation about an axis through the origin, after scaling (default none).
+        rotate: Option<RotateSpec>,
+        /// Translation, applied last (default none).
+        translate: Option<Vec<f64>>,
+    },
+    /// A closed outline (2D): a vertex list (`.csv`, `.txt`, `.xy`, `.dat`) or the polygons of
+    /// an SVG drawing, placed as a mesh is (rotation about z only).
+    Outline {
+        /// The file, relative to the scene file.
+        file: String,
+        /// Scale factor (default 1).
+        scale: Option<f64>,
+        /// Rotation about z, after scaling (default none).
+        rotate: Option<RotateSpec>,
+        /// Translation, applied last (default none).
+        translate: Option<Vec<f64>>,
+    },
+}
+
+/// A geometry file and where it goes (the fields of [`ShapeSpec::Mesh`] and
+/// [`ShapeSpec::Outline`]).
+#[derive(Clone, Copy, Debug)]
+pub struct GeometryFileSpec<'a> {
+    /// The file, relative to the scene file.
+    pub file: &'a str,
+    /// Scale factor.
+    pub scale: Option<f64>,
+    /// Rotation.
+    pub rotate: Option<&'a RotateSpec>,
+    /// Translation.
+    pub translate: Option<&'a [f64]>,
+}
+
+impl ShapeSpec {
+    /// A mesh's or outline's file and placement (`None` for the other shapes).
+    pub fn geometry_file(&self) -> Option<GeometryFileSpec<'_>> {
+        match self {
+            ShapeSpec::Mesh {
+                file,
+                scale,
+                rotate,
+                translate,
+            }
+            | ShapeSpec::Outline {
+                file,
+                scale,
+                rotate,
+                translate,
+            } => Some(GeometryFileSpec {
+                file,
+                scale: *scale,
+                rotate: rotate.as_ref(),
+                translate: translate.as_deref(),
+            }),
+            _ => None,
+        }
+    }
+}
+
+/// A rotation by `degrees` about `axis` (right-handed).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotateSpec {
+    /// The axis (default `[0, 0, 1]`, the only one a 2D outline may turn about).
+    pub axis: Option<Vec<f64>>,
+    /// The angle, degrees.
+    pub degrees: f64,
 }
 
 /// One body: its particles (a shape filled at spacing `dp`, or a particle file) and initial
@@ -165,19 +239,18 @@ pub struct BodySpec {
     pub dp: f64,
     /// The shape to fill (or `particles`).
     pub shape: Option<ShapeSpec>,
-    /// `lattice` (default: a Cartesian lattice whose cell faces pass through the shape's
-    /// lower bound) or `polar` (concentric layers: a 2D ball or shell, a 3D cylinder).
-    #[serde(default = "default_layout")]
-    pub layout: String,
+    /// `lattice` (a Cartesian lattice whose cell faces pass through the shape's lower bound;
+    /// the default for every shape but a mesh or outline), `polar` (concentric layers: a 2D ball
+    /// or shell, a 3D cylinder) or `fitted` (the lattice relaxed onto the surface of a mesh or
+    /// outline; their default).
+    pub layout: Option<String>,
+    /// Relaxation steps of the `fitted` layout (default 200; 0: the lattice fill).
+    pub relax_steps: Option<usize>,
     /// A CSV particle file (`x,y[,z],volume` per line, `#` comments), relative to the scene
     /// file, instead of `shape`.
     pub particles: Option<String>,
     /// Uniform initial velocity.
     pub velocity: Option<Vec<f64>>,
-}
-
-fn default_layout() -> String {
-    "lattice".into()
 }
 
 /// A constraint on the particles of a region.

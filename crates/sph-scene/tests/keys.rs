@@ -4,13 +4,13 @@
 //! tool paths, velocity curves and rotation, the laws' options, probe fields.
 
 use glam::{DVec2, DVec3};
-use sph_core::generate::{annulus_polar, Aabb, Lattice, ParticleSet};
 use sph_core::pressure::{PressureFunction, SurfacePressure};
 use sph_core::relaxation::PairwiseDamping;
 use sph_core::surface::surface_of;
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
-use sph_core::{Amplitude, Body, Constraint, Constraints, Loads, Probe, Solver, TimeFunction, D2};
+use sph_core::{Amplitude, Constraint, Constraints, Loads, Probe, Solver, TimeFunction, D2};
 use sph_driver::{Run, RunOptions};
+use sph_geometry::generate::{annulus_polar, Aabb, Lattice, ParticleSet};
 use sph_materials::{
     DeviatorDimension, ElasticConstants, KirchhoffVolDev, MaterialModel, MooneyRivlinLike,
     NeoHookean,
@@ -117,7 +117,7 @@ fn law() -> NeoHookean {
 
 fn tl(set: ParticleSet<D2>) -> TlSolver<D2, NeoHookean> {
     TlSolver::new(
-        Body::from_set(set, 1e-3),
+        set.into_body(1e-3),
         law(),
         Shear::hourglass_free(),
         TlParams::default(),
@@ -366,7 +366,7 @@ region = { ball = { centre = [0.0, 0.0], radius = 0.006 } }
 pressure = 1e4
 "#;
     let set = annulus_polar(DVec2::ZERO, 0.005, 0.01, 1e-3).unwrap();
-    let inner = set.inside(&sph_core::generate::FnShape::new(
+    let inner = set.inside(&sph_geometry::generate::FnShape::new(
         (DVec2::splat(-0.006), DVec2::splat(0.006)),
         |x: DVec2| x.length() <= 0.006,
     ));
@@ -385,7 +385,7 @@ pressure = 1e4
     let constants = ElasticConstants::from_youngs(1e6, 0.3, 1000.0).unwrap();
     let law =
         MaterialModel::MooneyRivlin(MooneyRivlinLike::from_constants(constants, 0.2).unwrap());
-    let mut solver = sph_mps::MpsSolver::new(Body::from_set(set, 1e-3), law, Default::default())
+    let mut solver = sph_mps::MpsSolver::new(set.into_body(1e-3), law, Default::default())
         .unwrap()
         .with_surface_pressure(sp)
         .unwrap()
@@ -501,7 +501,7 @@ fn every_law_option_is_the_library_law() {
         let mut loads = Loads::new();
         loads.add_body_acceleration(None, TimeFunction::constant(DVec2::new(0.0, -500.0)));
         let mut solver = TlSolver::new(
-            Body::from_set(set, 1e-3),
+            set.into_body(1e-3),
             model,
             Shear::hourglass_free(),
             TlParams::default(),
@@ -541,7 +541,7 @@ fields = ["von_mises", "displacement", "deformation_gradient", "jacobian", "diso
     );
     let set = plate_set();
     let (clamp, n) = (left_end(&set, 1e-3), set.len());
-    let body = Body::from_set(set, 1e-3);
+    let body = set.into_body(1e-3);
     let probe = Probe::at("tip", DVec2::new(0.02, 0.002), &body)
         .unwrap()
         .with_fields(&[
@@ -591,7 +591,7 @@ fn overrides_add_tables_the_file_lacks() {
     let relax =
         PairwiseDamping::new(PairwiseDamping::viscosity_for(1.0, 1000.0, 1e6, 0.004)).unwrap();
     let mut solver = TlSolver::new(
-        Body::from_set(set, 1e-3).with_velocity(|_| DVec2::new(0.0, 1.0)),
+        set.into_body(1e-3).with_velocity(|_| DVec2::new(0.0, 1.0)),
         law(),
         Shear::hourglass_free(),
         params,
@@ -830,7 +830,7 @@ fn the_new_numerics_keys_are_the_library_parameters() {
         fit: sph_mps::Fit::Quadratic,
         ..Default::default()
     };
-    let mut mps = sph_mps::MpsSolver::new(Body::from_set(set, 1e-3), law(), params)
+    let mut mps = sph_mps::MpsSolver::new(set.into_body(1e-3), law(), params)
         .unwrap()
         .with_constraints(Constraints::fixed(clamp, n).unwrap())
         .with_loads(loads)
@@ -865,7 +865,7 @@ fn the_new_numerics_keys_are_the_library_parameters() {
     };
     let constants = ElasticConstants::from_youngs(1e6, 0.3, 1000.0).unwrap();
     let mut ul = sph_ul::UlSolver::new(
-        Body::from_set(set, 1e-3).with_velocities(v),
+        set.into_body(1e-3).with_velocities(v),
         constants,
         sph_ul::Shear::NonNested {
             zeta: None,

@@ -2,11 +2,11 @@
 //! same scene built with the library; errors name the file, the line and the key.
 
 use glam::DVec2;
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::relaxation::PairwiseDamping;
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::{Body, Constraint, Constraints, D2};
 use sph_driver::{Run, RunOptions};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::{ElasticConstants, NeoHookean};
 use sph_scene::Scene;
 use sph_tl::{Shear, TlParams, TlSolver};

@@ -16,7 +16,7 @@
 //!
 //! ```
 //! use glam::DVec2;
-//! use sph_core::generate::{Aabb, Lattice, ParticleSet};
+//! use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 //! use sph_core::{Body, Constraints, Solver, D2};
 //! use sph_materials::{ElasticConstants, NeoHookean};
 //! use sph_tl::{Shear, TlParams, TlSolver};

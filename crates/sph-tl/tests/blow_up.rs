@@ -3,9 +3,9 @@
 //! and would otherwise let the run go on with an inverted body.
 
 use glam::DVec2;
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::Body;
 use sph_core::{Error, Solver, D2};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::{ElasticConstants, SaintVenantKirchhoff};
 use sph_tl::{Shear, TlParams, TlSolver};
 

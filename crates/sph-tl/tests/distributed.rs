@@ -3,8 +3,8 @@
 
 use glam::DVec3;
 use sph_core::comm::{Communicator, ThreadRanks};
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::{Body, Constraint, Constraints, Probe, Solver, D3};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::{ElasticConstants, NeoHookean};
 use sph_tl::{distribute, PairStorage, Shear, TlParams, TlSolver};
 use std::sync::Arc;

@@ -2,9 +2,9 @@
 //! every shear treatment, 2D and 3D, a jittered body with free surfaces, a clamp, damping and
 //! the pairwise relaxation.
 
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::relaxation::PairwiseDamping;
 use sph_core::{Body, Constraints, Dim, Solver, D2, D3};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::{ElasticConstants, NeoHookean};
 use sph_tl::{PairStorage, Shear, TlParams, TlSolver};
 

@@ -16,9 +16,9 @@
 
 use glam::{DMat2, DMat3, DVec2, DVec3};
 use proptest::prelude::*;
-use sph_core::generate::{Aabb, Annulus, Lattice, ParticleSet, Shape};
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Error, Kernel, Solver, TimeFunction, D2, D3};
+use sph_geometry::generate::{Aabb, Annulus, Lattice, ParticleSet, Shape};
 use sph_materials::{ElasticConstants, Material, NeoHookean, SaintVenantKirchhoff};
 use sph_tl::{Shear, TlParams, TlSolver};
 

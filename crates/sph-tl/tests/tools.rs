@@ -10,11 +10,11 @@
 //! the file runs in seconds.
 
 use glam::{DVec2, DVec3};
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::relaxation::PairwiseDamping;
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Solver, D2, D3};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::{ElasticConstants, NeoHookean};
 use sph_tl::{Shear, TlParams, TlSolver};
 

@@ -40,7 +40,7 @@
 //!
 //! ```
 //! use glam::DVec2;
-//! use sph_core::generate::annulus_polar;
+//! use sph_geometry::generate::annulus_polar;
 //! use sph_core::{Body, Solver};
 //! use sph_materials::ElasticConstants;
 //! use sph_ul::{Shear, UlParams, UlSolver};

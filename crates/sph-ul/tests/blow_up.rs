@@ -4,9 +4,9 @@
 //! speed is not ignored by the maximum that sets the sub-step.
 
 use glam::DVec2;
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::Body;
 use sph_core::{Error, Loads, Solver, TimeFunction, D2};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::ElasticConstants;
 use sph_ul::{Shear, Stepping, UlParams, UlSolver};
 

@@ -11,8 +11,8 @@ mod common;
 use common::*;
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
-use sph_core::generate::ParticleSet;
 use sph_core::{Body, Dim, Solver, D2, D3};
+use sph_geometry::generate::ParticleSet;
 use sph_ul::{RiemannScheme, Shear, Stepping, UlParams, UlSolver};
 
 // ------------------------------------------------- 1. pressure/continuity dissipate energy

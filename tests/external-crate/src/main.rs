@@ -2,7 +2,7 @@
 //! library (sph-core, sph-materials, sph-tl, sph-driver), both run and written (sph-output);
 //! the final positions must agree bit for bit. Exits non-zero on any failure.
 
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::glam::DVec2;
 use sph_core::{Body, Constraints, D2};
 use sph_driver::{Run, RunOptions};

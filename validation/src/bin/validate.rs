@@ -7,6 +7,7 @@
 //! cargo run --release -p sph-validation --bin validate -- extreme [--short] [--force]
 //! cargo run --release -p sph-validation --bin validate -- impacts [--fine] [--paper] [--force]
 //! cargo run --release -p sph-validation --bin validate -- contact [--force]
+//! cargo run --release -p sph-validation --bin validate -- geometry [--force]
 //! cargo run --release -p sph-validation --bin validate -- report
 //! ```
 //! Runs are stored under `validation/results/` and reused unless `--force`; `report` only reads
@@ -18,7 +19,7 @@
 
 use clap::{Parser, Subcommand};
 use sph_validation::{
-    contact, extreme, h5report, impacts, mps, mps_stab, plot, store, tl, tradeoff, ul,
+    contact, extreme, geometry, h5report, impacts, mps, mps_stab, plot, store, tl, tradeoff, ul,
     workspace_root,
 };
 use std::fmt::Write as _;
@@ -119,6 +120,13 @@ enum Command {
         #[arg(long)]
         only: Option<String>,
     },
+    /// Meshes (sphere, torus, cube) filled with body-fitted particles against their analytic
+    /// volumes and surfaces, relaxation off and on, then the report.
+    Geometry {
+        /// Re-run stored results.
+        #[arg(long)]
+        force: bool,
+    },
     /// Regenerate docs/validation.md from the stored runs.
     Report,
 }
@@ -191,6 +199,12 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
     }
+    if let Command::Geometry { force } = cli.command {
+        if let Err(e) = geometry::run_all(force) {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    }
     if cli.plan {
         return ExitCode::SUCCESS;
     }
@@ -232,6 +246,7 @@ fn report() -> Result<(), String> {
     extreme::report(&mut md, &figs, "validation")?;
     impacts::report(&mut md, &figs, "validation")?;
     contact::report(&mut md)?;
+    geometry::report(&mut md)?;
     let out = docs.join("validation.md");
     let tmp = docs.join("validation.md.tmp");
     std::fs::write(&tmp, &md).map_err(|e| e.to_string())?;

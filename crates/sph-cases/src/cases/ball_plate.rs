@@ -36,9 +36,9 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
-use sph_core::generate::ParticleSet;
-use sph_core::generate::{annulus_polar, hollow_sphere, hollow_sphere_polar, Aabb, Lattice};
 use sph_core::{Constraint, Constraints, Dim, Probe, Solver, D2, D3};
+use sph_geometry::generate::ParticleSet;
+use sph_geometry::generate::{annulus_polar, hollow_sphere, hollow_sphere_polar, Aabb, Lattice};
 use sph_materials::{Material, MaterialKind};
 
 /// The 2D ball–plate impact.

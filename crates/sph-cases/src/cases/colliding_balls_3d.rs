@@ -7,7 +7,7 @@
 //! paper's t = 0.001, 0.003, 0.005, 0.007 (`snapshot_interval` 0.001), end 0.008 s.
 //!
 //! Particles (`layout`): `layers` (default) = concentric spherical layers, each a Fibonacci
-//! lattice (`sph_core::generate::hollow_sphere_polar`): the surfaces are exact spheres and the
+//! lattice (`sph_geometry::generate::hollow_sphere_polar`): the surfaces are exact spheres and the
 //! spacing is near-uniform (nearest distance 0.87–1.00 dp); the right ball is the mirror image of
 //! the left, so the collision is symmetric. The paper relaxes its particles (Yu et al.'s level
 //! set); `lattice` cuts both balls from one cubic lattice (staircase surfaces), for comparison.
@@ -32,8 +32,8 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
-use sph_core::generate::{hollow_sphere, hollow_sphere_polar, ParticleSet};
 use sph_core::{Solver, D3};
+use sph_geometry::generate::{hollow_sphere, hollow_sphere_polar, ParticleSet};
 use sph_materials::{Material, MaterialKind};
 
 /// Two colliding hollow balls.

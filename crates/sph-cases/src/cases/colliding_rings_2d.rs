@@ -46,9 +46,9 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::error::Num;
-use sph_core::generate::{annulus_polar, ParticleSet};
 use sph_core::Body;
 use sph_core::{Probe, Solver, D2};
+use sph_geometry::generate::{annulus_polar, ParticleSet};
 use sph_materials::{ElasticConstants, MaterialKind};
 use sph_mps::Contact;
 

@@ -31,8 +31,8 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
-use sph_core::generate::{hollow_sphere, hollow_sphere_polar, Aabb, Lattice, ParticleSet};
 use sph_core::{Constraint, Constraints, Solver, D3};
+use sph_geometry::generate::{hollow_sphere, hollow_sphere_polar, Aabb, Lattice, ParticleSet};
 use sph_materials::{Material, MaterialKind};
 
 /// The Hertz impact.

@@ -52,7 +52,7 @@ pub fn layout_param(default: &'static str) -> Param {
         default,
         &["layers", "lattice"],
         "particles of the balls: `layers` = concentric spherical layers on Fibonacci lattices \
-         (sph_core::generate::hollow_sphere_polar, smooth surface), `lattice` = cut from a \
+         (sph_geometry::generate::hollow_sphere_polar, smooth surface), `lattice` = cut from a \
          cubic lattice (staircase surface)",
     )
 }

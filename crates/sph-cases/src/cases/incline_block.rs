@@ -36,9 +36,9 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use serde_json::{json, Map, Value as Json};
 use sph_core::friction::Friction;
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::{Amplitude, Body, Dim, Loads, Solver, TimeFunction, D2, D3};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::{Material, MaterialKind, MaterialModel};
 
 /// The block on an incline.

@@ -23,9 +23,9 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::error::Num;
-use sph_core::generate::{Aabb, Lattice, ParticleSet, Shape};
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Dim, Probe, Solver, D2};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet, Shape};
 use sph_materials::{DeviatorDimension, MaterialKind};
 
 /// `kL` of the first cantilever mode (root of cos kL cosh kL = −1, TL eq 36).

@@ -17,9 +17,9 @@ use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
 use sph_core::error::Num;
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Probe, Solver, D3};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::{Material, MaterialKind};
 
 /// The simply supported 3D plate.

@@ -4,7 +4,7 @@
 //! ν = 0.49, whose top and bottom slices of particles are clamped and pulled apart at
 //! `±pull_speed` (smooth start, then a hold; see
 //! [`quasi_static`](crate::cases::quasi_static)) until the distance between them has grown by
-//! the factor `stretch`. Particles: the body-fitted layout of `sph_core::generate::tube_polar`
+//! the factor `stretch`. Particles: the body-fitted layout of `sph_geometry::generate::tube_polar`
 //! (concentric rings of spacing ≈ dp in slices of thickness dp; the paper uses a body-fitted
 //! generator too), so the curved surface has no lattice steps.
 //!
@@ -23,9 +23,9 @@ use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
 use sph_core::error::Num;
-use sph_core::generate::tube_polar;
 use sph_core::Body;
 use sph_core::{Constraint, Constraints, Solver, D3};
+use sph_geometry::generate::tube_polar;
 use sph_materials::MaterialKind;
 
 /// The pulling cylinder.

@@ -27,10 +27,10 @@ use crate::{Case, CaseInfo};
 use glam::DVec2;
 use serde_json::{json, Map, Value as Json};
 use sph_core::error::Num;
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::Body;
 use sph_core::{Solver, D2};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::{Material, MaterialKind};
 
 /// The punching strip.

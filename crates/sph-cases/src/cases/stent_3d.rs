@@ -10,7 +10,7 @@
 //! slots, the shape a Palmaz–Schatz slotted tube takes when expanded (a single segment, without
 //! the bridge of the two-segment device). A wall particle belongs to the stent when its unrolled
 //! distance to the nearest strut centre line is at most `strut_width/2`. The particles are
-//! body-fitted (`sph_core::generate::tube_polar`: `wall/dp` layers across the wall, rings of
+//! body-fitted (`sph_geometry::generate::tube_polar`: `wall/dp` layers across the wall, rings of
 //! spacing ≈ dp, slices of thickness dp), `dp = wall/wall_layers` (the paper's dp = t/3).
 //!
 //! # Loading
@@ -32,10 +32,10 @@ use crate::{Case, CaseInfo};
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
 use sph_core::error::Num;
-use sph_core::generate::{tube_polar, ParticleSet};
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::Body;
 use sph_core::{Field, Loads, Solver, TimeFunction, D3};
+use sph_geometry::generate::{tube_polar, ParticleSet};
 use sph_materials::MaterialKind;
 use std::f64::consts::PI;
 

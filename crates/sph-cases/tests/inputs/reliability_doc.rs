@@ -393,7 +393,7 @@ pub fn render_doc() -> String {
         "## Guards and their limits\n\n\
          | guard | where | limit |\n\
          |---|---|---|\n\
-         | particles | the generators of `sph_core::generate` and particle files, before they allocate (`sph_core::budget`) | estimated peak memory = particles × {b2} B (2D) or {b3} B (3D), measured per method (table in `sph_core::budget`), at most {frac:.0} % of the least of the memory available (`MemAvailable`), what the memory cgroup leaves at every level of its hierarchy (v1, v2) and what `ulimit -v` / `ulimit -d` leave (beyond the process's size and its threads' reservations), or `--max-memory GIB`; the counts of one run add up; never more than 2³² − 1 particles |\n\
+         | particles | the generators of `sph_geometry::generate` and particle files, before they allocate (`sph_core::budget`) | estimated peak memory = particles × {b2} B (2D) or {b3} B (3D), measured per method (table in `sph_core::budget`), at most {frac:.0} % of the least of the memory available (`MemAvailable`), what the memory cgroup leaves at every level of its hierarchy (v1, v2) and what `ulimit -v` / `ulimit -d` leave (beyond the process's size and its threads' reservations), or `--max-memory GIB`; the counts of one run add up; never more than 2³² − 1 particles |\n\
          | snapshots | `sph_cases::guard`, before the run | at most {snap} snapshots, and their estimated size within the free space of the output directory |\n\
          | monitor samples | `sph_cases::guard` | at most {mon} |\n\
          | probe samples | `sph_cases::guard` | their memory within the limit left by the particles |\n\

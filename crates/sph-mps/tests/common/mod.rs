@@ -1,9 +1,9 @@
 //! Shared helpers of the sph-mps tests (bodies, random states, materials).
 #![allow(dead_code)]
 
-use sph_core::generate::{Aabb, Lattice, ParticleSet};
 use sph_core::Body;
 use sph_core::Dim;
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::Material;
 use sph_materials::{ElasticConstants, MooneyRivlinLike, SaintVenantKirchhoff};
 use sph_mps::{MpsParams, MpsSolver};

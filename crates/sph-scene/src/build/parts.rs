@@ -3,6 +3,9 @@
 
 use super::*;
 
+/// One body's particles, uniform initial velocity and, for the fitted layout, the fit's report.
+pub(super) type BodyParts<D> = (ParticleSet<D>, <D as Dim>::Vector, Option<FitReport>);
+
 /// Longest line of a particle file, bytes: a line holds four numbers.
 pub(super) const MAX_PARTICLE_LINE: usize = 4096;
 
@@ -137,12 +140,12 @@ impl Scene {
         Ok((constants, law))
     }
 
-    /// One body's particles and uniform initial velocity.
+    /// One body's particles and uniform initial velocity, and the report of a fitted layout.
     pub(super) fn body<D: SceneDim>(
         &self,
         k: usize,
         b: &Spanned<BodySpec>,
-    ) -> Result<(ParticleSet<D>, D::Vector), SceneError> {
+    ) -> Result<BodyParts<D>, SceneError> {
         let s = b.get_ref();
         let key = |name: &str| format!("body[{k}].{name}");
         let at = |name| At {
@@ -156,8 +159,43 @@ impl Scene {
                 format!("{}: allowed: > 0", Num(s.dp)),
             ));
         }
+        let mut report = None;
+        let file_shape = s
+            .shape
+            .as_ref()
+            .is_some_and(|s| s.geometry_file().is_some());
+        let layout = s
+            .layout
+            .as_deref()
+            .unwrap_or(if file_shape { "fitted" } else { "lattice" });
+        if s.relax_steps.is_some() && layout != "fitted" {
+            return Err(self.error_in(
+                &at("relax_steps"),
+                &key("relax_steps"),
+                format!("belongs to the fitted layout (this body's layout is {layout})"),
+            ));
+        }
         let set = match (&s.shape, &s.particles) {
-            (Some(shape), None) => match s.layout.as_str() {
+            (Some(shape), None) => match layout {
+                "fitted" => {
+                    let solid = match shape.geometry_file() {
+                        Some(g) => self.file_solid::<D>(&at("shape"), &key("shape"), shape, g)?,
+                        None => {
+                            return Err(self.error_in(
+                                &at("layout"),
+                                &key("layout"),
+                                "the fitted layout fills a mesh (3D) or an outline (2D) shape",
+                            ))
+                        }
+                    };
+                    let options = FitOptions {
+                        relax_steps: s.relax_steps.unwrap_or(DEFAULT_RELAX_STEPS),
+                    };
+                    let (set, r) = fit::<D>(&solid, s.dp, &options)
+                        .map_err(|e| self.error_in(&at("shape"), &key("shape"), e.to_string()))?;
+                    report = Some(r);
+                    set
+                }
                 "lattice" => {
                     let sh = self.shape::<D>(&at("shape"), &key("shape"), shape)?;
                     let origin = sh.bounds().0;
@@ -172,7 +210,7 @@ impl Scene {
                     return Err(self.error_in(
                         &at("layout"),
                         &key("layout"),
-                        format!("`{other}`: allowed values are lattice, polar"),
+                        format!("`{other}`: allowed values are lattice, polar, fitted"),
                     ))
                 }
             },
@@ -191,7 +229,7 @@ impl Scene {
             Some(v) => self.vector::<D>(&at("velocity"), &key("velocity"), v)?,
             None => D::zero(),
         };
-        Ok((set, v))
+        Ok((set, v, report))
     }
 
     /// A CSV particle file: `x,y[,z],volume` per line, blank lines and `#` comments skipped.
@@ -367,7 +405,93 @@ impl Scene {
                 self.shape::<D>(at, key, base)?,
                 self.shape::<D>(at, key, cut)?,
             )),
+            ShapeSpec::Mesh { .. } | ShapeSpec::Outline { .. } => match s.geometry_file() {
+                Some(g) => Box::new(self.file_solid::<D>(at, key, s, g)?),
+                None => unreachable!("a mesh or outline has a file"),
+            },
         })
+    }
+
+    /// A mesh or outline shape: the file (relative to the scene file) read and placed.
+    pub(super) fn file_solid<D: Dim>(
+        &self,
+        at: &At<'_>,
+        key: &str,
+        s: &ShapeSpec,
+        g: GeometryFileSpec<'_>,
+    ) -> Result<FileSolid<D>, SceneError> {
+        let mesh = matches!(s, ShapeSpec::Mesh { .. });
+        let kind = if mesh { "mesh" } else { "outline" };
+        let bad = |field: &str, m: String| self.error_in(at, &format!("{key}.{kind}.{field}"), m);
+        if mesh && D::D != 3 {
+            return Err(bad(
+                "file",
+                "a mesh is a 3D shape (in 2D use outline)".into(),
+            ));
+        }
+        if !mesh && D::D != 2 {
+            return Err(bad(
+                "file",
+                "an outline is a 2D shape (in 3D use mesh)".into(),
+            ));
+        }
+        let scale = g.scale.unwrap_or(1.0);
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(bad(
+                "scale",
+                format!("{}: allowed: > 0 and finite", Num(scale)),
+            ));
+        }
+        let translate = match g.translate {
+            Some(t) => D::to_vec3(self.vector::<D>(at, &format!("{key}.{kind}.translate"), t)?),
+            None => DVec3::ZERO,
+        };
+        let (axis, degrees) = match g.rotate {
+            Some(r) => {
+                let axis = match &r.axis {
+                    Some(a) if a.len() == 3 && a.iter().all(|c| c.is_finite()) => {
+                        DVec3::new(a[0], a[1], a[2])
+                    }
+                    Some(a) => {
+                        return Err(bad(
+                            "rotate.axis",
+                            format!("{a:?}: expected 3 finite numbers"),
+                        ))
+                    }
+                    None => DVec3::Z,
+                };
+                if axis.length() == 0.0 {
+                    return Err(bad("rotate.axis", "[0, 0, 0]: allowed: non-zero".into()));
+                }
+                if !mesh && (axis.x != 0.0 || axis.y != 0.0) {
+                    return Err(bad(
+                        "rotate.axis",
+                        format!("{:?}: a 2D outline turns about z, [0, 0, 1]", r.axis),
+                    ));
+                }
+                if !r.degrees.is_finite() {
+                    return Err(bad(
+                        "rotate.degrees",
+                        format!("{}: allowed: finite", Num(r.degrees)),
+                    ));
+                }
+                (axis, r.degrees)
+            }
+            None => (DVec3::Z, 0.0),
+        };
+        let placement = Placement {
+            scale,
+            axis,
+            degrees,
+            translate,
+        };
+        let path = self.dir.join(g.file);
+        let solid = if mesh {
+            FileSolid::<D>::mesh(&path, &placement)
+        } else {
+            FileSolid::<D>::outline(&path, &placement)
+        };
+        solid.map_err(|e| bad("file", e.to_string()))
     }
 
     /// A coordinate list as a vector of the scene's dimension.

@@ -2,8 +2,8 @@
 #![allow(dead_code)]
 
 use glam::DVec2;
-use sph_core::generate::{Aabb, Lattice, ParticleSet, Shape};
 use sph_core::{Body, Dim, D2};
+use sph_geometry::generate::{Aabb, Lattice, ParticleSet, Shape};
 use sph_materials::ElasticConstants;
 use sph_ul::{RiemannScheme, Shear, UlParams, UlSolver};
 

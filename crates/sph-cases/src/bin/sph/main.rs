@@ -8,6 +8,7 @@
 //!         [--max-memory GIB] [--allow-long-run] [--dry-run]
 //!         [--checkpoint-every INTERVAL] [--checkpoint FILE]
 //! sph resume <checkpoint> [--threads N] [--max-memory GIB] [--log-every SECONDS]
+//! sph preview <scene.toml> --out DIR [--summary FILE.json] [--set key=value]...
 //! ```
 //! Exit status: 0 on success, 2 for bad input (one line on stderr; nothing is written), 1 when
 //! the run failed mid-way (the results file is completed with what was computed, its summary
@@ -123,10 +124,28 @@ enum Command {
     /// within a tolerance (or the budget is spent), and report value ± error, the observed
     /// order and what each level cost.
     Converge(Box<converge::ConvergeArgs>),
+    /// Build a scene's bodies (fitting meshes and outlines), regions and tools without running,
+    /// and write the initial particles (HDF5 + XDMF), a picture (PNG) and the per-body report.
+    Preview(PreviewArgs),
     /// Before any run: the method and resolution expected to be cheapest for a tolerance, from
     /// the project's stored trade-off runs (docs/tradeoffs.md), with how far they stand for
     /// the case asked about.
     Advise(advise::AdviseArgs),
+}
+
+#[derive(clap::Args)]
+struct PreviewArgs {
+    /// The scene file (`.toml`).
+    scene: PathBuf,
+    /// Directory for `<scene>-preview.h5`, `.xmf` and `.png`.
+    #[arg(long)]
+    out: PathBuf,
+    /// Also write the per-body report as JSON to this file.
+    #[arg(long)]
+    summary: Option<PathBuf>,
+    /// Set a scene key or parameter: key=value (repeatable).
+    #[arg(long = "set", short = 's', value_name = "KEY=VALUE")]
+    set: Vec<String>,
 }
 
 #[derive(clap::Args)]
@@ -283,11 +302,53 @@ fn command(cli: Cli) -> ExitCode {
         Command::Resume(args) => resume(args),
         Command::Converge(args) => converge::converge_command(*args),
         Command::Advise(args) => advise::advise_command(args),
+        Command::Preview(args) => preview(args),
     };
     result.unwrap_or_else(|e| {
         say(&format!("error: {e}"));
         ExitCode::from(2)
     })
+}
+
+/// `sph preview`: the scene built, written and drawn, the report printed
+/// (`sph_cases::preview`).
+fn preview(a: PreviewArgs) -> Result<ExitCode, CaseError> {
+    let overrides = a
+        .set
+        .iter()
+        .map(|s| sph_scene::Override::parse(s).map_err(|e| CaseError::Config(format!("--set {e}"))))
+        .collect::<Result<Vec<_>, _>>()?;
+    let scene = Scene::from_file_with(&a.scene, &overrides)
+        .map_err(|e| CaseError::Config(e.to_string()))?;
+    let files = sph_cases::preview::preview(&scene, &a.scene, &a.out, a.summary.as_deref())?;
+    let mut text = format!(
+        "{}: {} particles\n",
+        scene.name(),
+        files.summary["particles"]
+    );
+    if let Some(Json::Object(bodies)) = files.summary.get("bodies") {
+        for (name, b) in bodies {
+            let f = |k: &str| match b[k].as_f64() {
+                Some(v) => format!("{v:.4}"),
+                None => "-".into(),
+            };
+            text.push_str(&format!(
+                "  {name}: {} particles, volume {} (mesh {}), surface distance rms {} max {} dp, volume spread {}\n",
+                b["particles"],
+                f("volume"),
+                f("mesh_volume"),
+                f("surface_distance_rms"),
+                f("surface_distance_max"),
+                f("volume_spread")
+            ));
+        }
+    }
+    text.push_str(&format!(
+        "wrote {} (+ .xmf) and {}\n",
+        files.results.display(),
+        files.picture.display()
+    ));
+    Ok(print_or_fail(&text, ExitCode::SUCCESS))
 }
 
 /// A parameter file for `case` with `method`'s defaults, every key commented with its meaning

@@ -3,12 +3,12 @@
 //! and supports, permutation, nearest particle, multi-body merging and input validation.
 
 use glam::{DVec2, DVec3};
-use sph_core::generate::{
+use sph_core::neighbor::invert_permutation;
+use sph_core::{Error, D2, D3};
+use sph_geometry::generate::{
     annulus_lattice, annulus_polar, hollow_sphere, hollow_sphere_polar, nearest_distances,
     tube_polar, Aabb, Annulus, Cylinder, HollowSphere, Lattice, ParticleSet, Shape,
 };
-use sph_core::neighbor::invert_permutation;
-use sph_core::{Error, D2, D3};
 use std::f64::consts::PI;
 
 fn v2(x: f64, y: f64) -> DVec2 {
@@ -667,4 +667,68 @@ fn generators_refuse_counts_beyond_the_budget_before_allocating() {
             assert!(hollow_sphere_polar(v3(0.0, 0.0, 0.0), 0.0, 1.0, 0.25).is_ok());
         },
     );
+}
+
+/// The surface detection of sph-core on the polar rings generated here (moved from sph-core's
+/// unit tests with the generators).
+mod surface_of_generated_sets {
+    use sph_core::glam::DVec2;
+    use sph_core::glam::DVec3;
+    use sph_core::surface::surface_of;
+    use sph_core::surface::thickness;
+    use sph_core::D2;
+    use sph_core::D3;
+    use sph_geometry::generate::annulus_polar;
+    use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
+
+    #[test]
+    fn a_ring_has_its_inner_and_outer_layers_on_the_surface_with_radial_normals() {
+        let set = annulus_polar(DVec2::ZERO, 1.0, 2.0, 0.1).unwrap();
+        let all: Vec<u32> = (0..set.len() as u32).collect();
+        let s = surface_of::<D2>(set.positions(), 0.1, &all).unwrap();
+        let inner = set.tagged("inner").unwrap();
+        let outer = set.tagged("outer").unwrap();
+        assert_eq!(s.len(), inner.len() + outer.len());
+        for p in &s {
+            let x = set.positions()[p.index as usize];
+            let radial = x.normalize();
+            let sign = if inner.contains(&p.index) { -1.0 } else { 1.0 };
+            // The polar layers are not exactly symmetric about each particle: within 2°.
+            assert!(p.normal.dot(radial * sign) > 2f64.to_radians().cos(), "{x}");
+        }
+    }
+
+    /// A lattice slab of an even or odd number of layers is exactly its height; a ring its
+    /// wall, a ball its diameter (within a spacing: the surface layer of a curved body is not
+    /// at exactly dp/2 from the surface).
+    #[test]
+    fn thickness_is_the_thinnest_extent_of_a_slab_the_wall_of_a_ring_the_diameter_of_a_ball() {
+        let dp = 1.0;
+        let lattice2 = Lattice::new(dp, DVec2::ZERO).unwrap();
+        for layers in [1.0, 2.0, 3.0, 4.0, 7.0] {
+            let b = Aabb::<D2>::new(DVec2::ZERO, DVec2::new(20.0, layers)).unwrap();
+            let set = ParticleSet::fill(&lattice2, &b).unwrap();
+            let t = thickness::<D2>(set.positions(), dp).unwrap();
+            assert!((t - layers).abs() < 1e-9, "{layers} layers: {t}");
+        }
+        let b = Aabb::<D3>::new(DVec3::ZERO, DVec3::new(8.0, 5.0, 4.0)).unwrap();
+        let set = ParticleSet::fill(&Lattice::new(dp, DVec3::ZERO).unwrap(), &b).unwrap();
+        let t = thickness::<D3>(set.positions(), dp).unwrap();
+        assert!((t - 4.0).abs() < 1e-9, "{t}");
+        let ring = annulus_polar(DVec2::ZERO, 1.0, 2.0, 0.1).unwrap();
+        let t = thickness::<D2>(ring.positions(), 0.1).unwrap();
+        assert!((t - 1.0).abs() < 0.1, "ring wall: {t}");
+        let disc = ParticleSet::fill(
+            &Lattice::new(0.1, DVec2::splat(-1.0)).unwrap(),
+            &sph_geometry::generate::FnShape::<D2, _>::new(
+                (DVec2::splat(-1.0), DVec2::ONE),
+                |x: DVec2| x.length() <= 1.0,
+            ),
+        )
+        .unwrap();
+        let t = thickness::<D2>(disc.positions(), 0.1).unwrap();
+        assert!((t - 2.0).abs() < 0.1, "disc: {t}");
+        assert!(thickness::<D2>(&[], dp).is_err());
+        assert!(thickness::<D2>(&[DVec2::ZERO], 0.0).is_err());
+    }
 }

@@ -33,16 +33,16 @@
 //! [`ParticleSet::extend`] (which merges regions by name).
 //!
 //! # Particle budget
-//! Every generator checks the particle budget of [`crate::budget`] before it allocates: the
+//! Every generator checks the particle budget of [`sph_core::budget`] before it allocates: the
 //! polar generators compute their count in closed form first, the lattice fill stops as soon as
 //! it would keep one particle too many. Parameters that would need more memory than the budget
 //! (or more than 2³² − 1 particles, or a count that overflows every integer) give
 //! [`Error::TooManyParticles`] with the estimate and the limit, never a panic or an abort.
 
-use crate::budget;
-use crate::dim::{Dim, D2, D3};
-use crate::error::{check_non_negative, check_positive, Error};
 use glam::{DVec2, DVec3};
+use sph_core::budget;
+use sph_core::dim::{Dim, D2, D3};
+use sph_core::error::{check_non_negative, check_positive, Error};
 use std::f64::consts::PI;
 
 mod polar;
@@ -128,7 +128,7 @@ impl<D: Dim> Lattice<D> {
             return Err(too_fine(self.dp));
         }
         let centre = |k: usize, n: i64| D::component(self.origin, k) + (n as f64 + 0.5) * self.dp;
-        // The particle budget (crate::budget) is checked as the points are kept, so memory
+        // The particle budget (sph_core::budget) is checked as the points are kept, so memory
         // never grows past it; when it runs out, the count is estimated from the share of
         // the candidates kept so far.
         let allowance = budget::remaining::<D>();
@@ -436,7 +436,7 @@ impl<D: Dim> ParticleSet<D> {
     }
 
     /// Reorders every field by `perm` (`perm[new] = old`, the convention of
-    /// [`crate::neighbor::apply_permutation`]); errors unless `perm` is a permutation of
+    /// [`sph_core::neighbor::apply_permutation`]); errors unless `perm` is a permutation of
     /// `0..len`.
     pub fn permute(&mut self, perm: &[u32]) -> Result<(), Error> {
         let n = self.len();
@@ -458,7 +458,7 @@ impl<D: Dim> ParticleSet<D> {
                 ));
             }
         }
-        use crate::neighbor::apply_permutation;
+        use sph_core::neighbor::apply_permutation;
         self.positions = apply_permutation(perm, &self.positions);
         self.volumes = apply_permutation(perm, &self.volumes);
         self.tags = apply_permutation(perm, &self.tags);
@@ -546,7 +546,7 @@ impl<D: Dim> ParticleSet<D> {
 /// `radius`), with a cell list of edge `radius`: a spacing check for generated sets (a gap or a
 /// near-coincident pair shows as an outlier).
 pub fn nearest_distances<D: Dim>(positions: &[D::Vector], radius: f64) -> Result<Vec<f64>, Error> {
-    let grid = crate::neighbor::CellGrid::<D>::build(positions, radius)?;
+    let grid = sph_core::neighbor::CellGrid::<D>::build(positions, radius)?;
     Ok(positions
         .iter()
         .enumerate()
