@@ -212,18 +212,27 @@ pub fn advise(
     } else {
         return nearest(data, case, kind, dimension, methods, tolerance);
     };
-    // Only the methods the case runs.
+    Some(advice_on(scene, confidence, why, methods, tolerance))
+}
+
+/// The advice that `scene` gives: its cheapest run within `tolerance` among `methods` only.
+fn advice_on(
+    scene: &StoredScene,
+    confidence: Confidence,
+    why: String,
+    methods: &[&str],
+    tolerance: f64,
+) -> Advice {
     let mut usable = scene.clone();
     usable.runs.retain(|r| methods.contains(&r.method.as_str()));
-    let run = usable.cheapest(tolerance).cloned();
-    Some(Advice {
+    Advice {
         scene: scene.key.clone(),
         title: scene.title.clone(),
         confidence,
         why,
-        run,
+        run: usable.cheapest(tolerance).cloned(),
         resolution_key: scene.resolution_key.clone(),
-    })
+    }
 }
 
 /// The advice for a problem without stored runs of its own (`subject` names it in the
@@ -285,17 +294,7 @@ pub fn nearest(
             }
         )
     };
-    let mut usable = scene.clone();
-    usable.runs.retain(|r| methods.contains(&r.method.as_str()));
-    let run = usable.cheapest(tolerance).cloned();
-    Some(Advice {
-        scene: scene.key.clone(),
-        title: scene.title.clone(),
-        confidence,
-        why,
-        run,
-        resolution_key: scene.resolution_key.clone(),
-    })
+    Some(advice_on(scene, confidence, why, methods, tolerance))
 }
 
 /// Particles across the thinnest part of each stored scene's body per unit of its refinement
