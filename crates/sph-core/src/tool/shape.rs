@@ -1,0 +1,209 @@
+//! The exact shapes of rigid tools and their signed distances.
+
+use crate::dim::Dim;
+use crate::error::{check_positive, Error};
+
+/// The geometry of a rigid tool in its initial position.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ToolShape<D: Dim> {
+    /// An axis-aligned box (rectangle in 2D), `min ≤ x ≤ max`.
+    Box {
+        /// Lower corner.
+        min: D::Vector,
+        /// Upper corner.
+        max: D::Vector,
+    },
+    /// A box whose edges and corners are rounded with `radius`: the points within `radius`
+    /// of the box `min + radius ≤ x ≤ max − radius`.
+    RoundedBox {
+        /// Lower corner (of the rounded box).
+        min: D::Vector,
+        /// Upper corner (of the rounded box).
+        max: D::Vector,
+        /// Radius of the edges and corners.
+        radius: f64,
+    },
+    /// A ball (disc in 2D).
+    Ball {
+        /// Centre.
+        centre: D::Vector,
+        /// Radius.
+        radius: f64,
+    },
+    /// A half-space: the solid lies on the side of the plane through `point` opposite to the
+    /// unit `normal` (a wall whose surface faces along `normal`).
+    HalfSpace {
+        /// A point of the plane.
+        point: D::Vector,
+        /// Outward unit normal.
+        normal: D::Vector,
+    },
+}
+
+impl<D: Dim> ToolShape<D> {
+    /// A box from its corners.
+    ///
+    /// # Errors
+    /// Non-finite corners or `min_k ≥ max_k` in some direction.
+    pub fn cuboid(min: D::Vector, max: D::Vector) -> Result<Self, Error> {
+        for k in 0..D::D {
+            let (a, b) = (D::component(min, k), D::component(max, k));
+            if !(a.is_finite() && b.is_finite() && a < b) {
+                return Err(Error::invalid(
+                    "tool box corners",
+                    format!("{min:?} .. {max:?}"),
+                    "finite, with min < max in every direction",
+                ));
+            }
+        }
+        Ok(ToolShape::Box { min, max })
+    }
+
+    /// A box from its corners with edges and corners rounded by `radius` (0: [`Self::cuboid`]).
+    ///
+    /// # Errors
+    /// As [`Self::cuboid`], and a negative radius or one larger than half the box's smallest
+    /// side.
+    pub fn rounded_cuboid(min: D::Vector, max: D::Vector, radius: f64) -> Result<Self, Error> {
+        let sharp = Self::cuboid(min, max)?;
+        let half_side = (0..D::D)
+            .map(|k| 0.5 * (D::component(max, k) - D::component(min, k)))
+            .fold(f64::INFINITY, f64::min);
+        // Corners given as offsets from a centre lose the last bits of their difference: a
+        // radius of exactly half the intended side must not be refused for that.
+        let radius = if radius > half_side && radius <= half_side * (1.0 + 1e-9) {
+            half_side
+        } else {
+            radius
+        };
+        if !(radius.is_finite() && (0.0..=half_side).contains(&radius)) {
+            return Err(Error::invalid(
+                "tool corner radius",
+                radius,
+                &format!("0 <= radius <= {half_side} (half the box's smallest side)"),
+            ));
+        }
+        if radius == 0.0 {
+            return Ok(sharp);
+        }
+        Ok(ToolShape::RoundedBox { min, max, radius })
+    }
+
+    /// A ball (disc in 2D).
+    ///
+    /// # Errors
+    /// Non-finite centre or non-positive radius.
+    pub fn ball(centre: D::Vector, radius: f64) -> Result<Self, Error> {
+        check_positive("tool radius", radius)?;
+        if !D::is_finite(centre) {
+            return Err(Error::invalid(
+                "tool centre",
+                format!("{centre:?}"),
+                "finite",
+            ));
+        }
+        Ok(ToolShape::Ball { centre, radius })
+    }
+
+    /// A half-space wall whose surface passes through `point` and faces along `normal`
+    /// (normalised here).
+    ///
+    /// # Errors
+    /// Non-finite point, or a zero or non-finite normal.
+    pub fn half_space(point: D::Vector, normal: D::Vector) -> Result<Self, Error> {
+        let len = D::norm(normal);
+        if !(D::is_finite(point) && len.is_finite() && len > 0.0) {
+            return Err(Error::invalid(
+                "tool half-space",
+                format!("point {point:?}, normal {normal:?}"),
+                "a finite point and a finite non-zero normal",
+            ));
+        }
+        Ok(ToolShape::HalfSpace {
+            point,
+            normal: normal / len,
+        })
+    }
+
+    /// Signed distance from `x` to the surface (negative inside) and the outward unit normal
+    /// of the surface at the closest point (the gradient of the distance; on a box's edges and
+    /// corners the direction from the corner, which rounds them).
+    pub fn distance(&self, x: D::Vector) -> (f64, D::Vector) {
+        match *self {
+            ToolShape::Box { min, max } => {
+                let mut outside = D::zero();
+                let (mut best, mut best_k, mut best_sign) = (f64::NEG_INFINITY, 0, 1.0);
+                let mut any_outside = false;
+                for k in 0..D::D {
+                    let (lo, hi) = (D::component(min, k), D::component(max, k));
+                    let p = D::component(x, k) - 0.5 * (lo + hi);
+                    let sign = if p < 0.0 { -1.0 } else { 1.0 };
+                    let q = p.abs() - 0.5 * (hi - lo);
+                    if q > 0.0 {
+                        any_outside = true;
+                        D::set_component(&mut outside, k, sign * q);
+                    }
+                    if q > best {
+                        (best, best_k, best_sign) = (q, k, sign);
+                    }
+                }
+                if any_outside {
+                    let d = D::norm(outside);
+                    (d, outside / d)
+                } else {
+                    let mut n = D::zero();
+                    D::set_component(&mut n, best_k, best_sign);
+                    (best, n)
+                }
+            }
+            ToolShape::RoundedBox { min, max, radius } => {
+                // The box shrunk by the radius, then every distance less the radius.
+                let mut r = D::zero();
+                for k in 0..D::D {
+                    D::set_component(&mut r, k, radius);
+                }
+                let core = ToolShape::<D>::Box {
+                    min: min + r,
+                    max: max - r,
+                };
+                let (d, n) = core.distance(x);
+                (d - radius, n)
+            }
+            ToolShape::Ball { centre, radius } => {
+                let r = x - centre;
+                let len = D::norm(r);
+                if len > 0.0 {
+                    (len - radius, r / len)
+                } else {
+                    let mut n = D::zero();
+                    D::set_component(&mut n, 0, 1.0);
+                    (-radius, n)
+                }
+            }
+            ToolShape::HalfSpace { point, normal } => (D::dot(x - point, normal), normal),
+        }
+    }
+
+    /// An axis-aligned box containing the shape (infinite extent for a half-space).
+    pub fn bounds(&self) -> (D::Vector, D::Vector) {
+        match *self {
+            ToolShape::Box { min, max } | ToolShape::RoundedBox { min, max, .. } => (min, max),
+            ToolShape::Ball { centre, radius } => {
+                let mut r = D::zero();
+                for k in 0..D::D {
+                    D::set_component(&mut r, k, radius);
+                }
+                (centre - r, centre + r)
+            }
+            ToolShape::HalfSpace { .. } => {
+                let mut lo = D::zero();
+                let mut hi = D::zero();
+                for k in 0..D::D {
+                    D::set_component(&mut lo, k, f64::NEG_INFINITY);
+                    D::set_component(&mut hi, k, f64::INFINITY);
+                }
+                (lo, hi)
+            }
+        }
+    }
+}
