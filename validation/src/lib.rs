@@ -15,6 +15,7 @@ pub mod geometry;
 pub mod h5report;
 pub mod hertz;
 pub mod impacts;
+pub mod mesh_physics;
 pub mod mps;
 pub mod mps_stab;
 pub use sph_plot as plot;

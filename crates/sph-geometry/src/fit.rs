@@ -23,7 +23,10 @@
 //! closest point on the mesh or outline, [`Boundary::signed_distance`]) and evaluated only for
 //! particles within reach of the surface (re-selected every [`RESELECT`] steps, within which no
 //! particle can move farther than the margin; a particle is measured again only once it has
-//! moved far enough since its last measurement to have come within reach).
+//! moved far enough since its last measurement to have come within reach). A particle whose
+//! last measured depth exceeds how far it has moved since is certainly inside: its distance
+//! skips the inside test (a winding number on a mesh, the costly half of the query), and its
+//! push from the surface is not evaluated at all once that depth exceeds the kernel's support.
 //!
 //! # Report
 //! [`FitReport`]: the particle count; the total particle volume `N dp^d` against the enclosed
@@ -210,18 +213,31 @@ impl HalfSpaceIntegrals {
                     * 2.0
             }
         };
+        // Q(d) = ∫_d^R P(s) ds is the kernel over the half-space beyond the plane, one integral
+        // over the radius: Q(d) = ∫_d^R W(r) A(r) dr with A the part of the sphere (circle) of
+        // radius r beyond the plane, 2π r (r − d) in 3D and 2 r arccos(d/r) in 2D; with
+        // r = d + (R − d) u², smooth at r = d, by the midpoint rule.
+        let half_at = |d: f64| -> f64 {
+            if d >= support {
+                return 0.0;
+            }
+            let du = 1.0 / q as f64;
+            (0..q)
+                .map(|k| {
+                    let u = (k as f64 + 0.5) * du;
+                    let r = d + (support - d) * u * u;
+                    let beyond = if D::D == 3 {
+                        2.0 * std::f64::consts::PI * r * (r - d)
+                    } else {
+                        2.0 * r * (d / r).min(1.0).acos()
+                    };
+                    kernel.w(r) * beyond * 2.0 * (support - d) * u
+                })
+                .sum::<f64>()
+                * du
+        };
         let plane: Vec<f64> = (0..=Self::N).map(|k| plane_at(k as f64 * step)).collect();
-        // Q(d) = ∫_d^R P(s) ds, by the same fine midpoint rule.
-        let half = (0..=Self::N)
-            .map(|k| {
-                let d = k as f64 * step;
-                let ds = (support - d) / 512.0;
-                (0..512)
-                    .map(|m| plane_at(d + (m as f64 + 0.5) * ds))
-                    .sum::<f64>()
-                    * ds
-            })
-            .collect();
+        let half = (0..=Self::N).map(|k| half_at(k as f64 * step)).collect();
         Self { step, plane, half }
     }
 
@@ -317,7 +333,7 @@ pub fn relax<D: Dim>(
                 .zip(x.par_iter())
                 .for_each(|((d, moved), &xi)| {
                     if *d - *moved < reach {
-                        *d = -boundary.signed_distance(xi).0;
+                        *d = -depth_measure(boundary, xi, *d - *moved).0;
                         *moved = 0.0;
                     }
                 });
@@ -344,8 +360,10 @@ pub fn relax<D: Dim>(
                     s += d * (kernel.dw_dr(r) * v / r);
                 }
             });
-            if is_near[i] {
-                let (phi, n) = boundary.signed_distance(xi);
+            // The surface's push vanishes beyond the kernel's reach (P(d ≥ cutoff) = 0).
+            let min_depth = depth[i] - drift[i];
+            if is_near[i] && min_depth < cutoff {
+                let (phi, n) = depth_measure(boundary, xi, min_depth);
                 s += n * tables.plane((-phi).max(0.0));
             }
             *a = s * -2.0;
@@ -371,8 +389,12 @@ pub fn relax<D: Dim>(
         let moved: Vec<(u32, D::Vector)> = near
             .par_iter()
             .filter_map(|&i| {
-                let xi = x[i as usize];
-                let (phi, n) = boundary.signed_distance(xi);
+                let (xi, min_depth) = (x[i as usize], depth[i as usize] - drift[i as usize]);
+                // Certainly deeper than the bound: nothing to do.
+                if min_depth >= bound {
+                    return None;
+                }
+                let (phi, n) = depth_measure(boundary, xi, min_depth);
                 (phi > -bound).then(|| (i, xi - n * (phi + bound)))
             })
             .collect();
@@ -382,6 +404,22 @@ pub fn relax<D: Dim>(
         }
     }
     Ok(())
+}
+
+/// The signed distance of a particle whose depth is at least `min_depth` (its last measured
+/// depth less how far it has moved since; `−∞` when never measured): a particle certainly
+/// inside skips the inside test ([`Boundary::signed_distance_on_side`]), bit-identical to the
+/// full query.
+fn depth_measure<D: Dim>(
+    boundary: &dyn Boundary<D>,
+    x: D::Vector,
+    min_depth: f64,
+) -> (f64, D::Vector) {
+    if min_depth > 0.0 {
+        boundary.signed_distance_on_side(x, true)
+    } else {
+        boundary.signed_distance(x)
+    }
 }
 
 /// The report of a fitted set (module documentation).
@@ -441,4 +479,44 @@ pub fn report<D: Dim>(
         volume_spread: var.sqrt() / mean,
         relax_steps,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sph_core::{D2, D3};
+
+    /// Q(d) from its definition ∫_d^R P(s) ds, by a nested midpoint rule on the tabulated P.
+    fn half_by_plane_integral(t: &HalfSpaceIntegrals, support: f64, d: f64) -> f64 {
+        let n = 20_000;
+        let ds = (support - d) / n as f64;
+        (0..n)
+            .map(|k| t.plane(d + (k as f64 + 0.5) * ds))
+            .sum::<f64>()
+            * ds
+    }
+
+    fn check<D: Dim>() {
+        let kernel = WendlandC2::<D>::from_spacing(1.0, RELAX_H_OVER_DP).unwrap();
+        let t = HalfSpaceIntegrals::new(&kernel);
+        let support = kernel.cutoff();
+        // Half the kernel's unit integral lies beyond a plane through its centre.
+        assert!(
+            (t.half_space(0.0) - 0.5).abs() < 1e-6,
+            "{}",
+            t.half_space(0.0)
+        );
+        for f in [0.0, 0.1, 0.3, 0.6, 0.9] {
+            let d = f * support;
+            let (q, by_p) = (t.half_space(d), half_by_plane_integral(&t, support, d));
+            assert!((q - by_p).abs() < 2e-5, "d = {d}: Q {q} against ∫P {by_p}");
+        }
+        assert_eq!(t.half_space(support), 0.0);
+    }
+
+    #[test]
+    fn the_half_space_integral_is_the_integral_of_the_plane_integral() {
+        check::<D2>();
+        check::<D3>();
+    }
 }

@@ -55,6 +55,15 @@ pub trait Boundary<D: Dim>: Shape<D> {
     /// normal at the closest surface point.
     fn signed_distance(&self, x: D::Vector) -> (f64, D::Vector);
 
+    /// [`Self::signed_distance`] of a point whose side is known (`inside`): one that was
+    /// measured at some distance from the surface and has moved less than that distance since.
+    /// The same result without the inside test, which dominates the cost on a large mesh (a
+    /// winding number against a closest point). The default ignores the hint.
+    fn signed_distance_on_side(&self, x: D::Vector, inside: bool) -> (f64, D::Vector) {
+        let _ = inside;
+        self.signed_distance(x)
+    }
+
     /// The enclosed volume (area in 2D).
     fn volume(&self) -> f64;
 
@@ -172,6 +181,20 @@ impl<D: Dim> Boundary<D> for FileSolid<D> {
             }
             FileSolidKind::Outline(o) => {
                 let (d, n) = o.signed_distance(x.truncate());
+                (d, Self::to_d(n.extend(0.0)))
+            }
+        }
+    }
+
+    fn signed_distance_on_side(&self, x: D::Vector, inside: bool) -> (f64, D::Vector) {
+        let x = D::to_vec3(x);
+        match &self.inner {
+            FileSolidKind::Mesh(m) => {
+                let (d, n) = Boundary::<sph_core::D3>::signed_distance_on_side(m, x, inside);
+                (d, Self::to_d(n))
+            }
+            FileSolidKind::Outline(o) => {
+                let (d, n) = o.signed_distance_on_side(x.truncate(), inside);
                 (d, Self::to_d(n.extend(0.0)))
             }
         }

@@ -638,9 +638,12 @@ impl Shape<D3> for MeshSolid {
 
 impl Boundary<D3> for MeshSolid {
     fn signed_distance(&self, x: DVec3) -> (f64, DVec3) {
+        self.signed_distance_on_side(x, self.contains(x))
+    }
+
+    fn signed_distance_on_side(&self, x: DVec3, inside: bool) -> (f64, DVec3) {
         let (d2, p, t) = self.bvh.closest(x);
         let d = d2.sqrt();
-        let inside = self.contains(x);
         let face = self.normals[t as usize];
         let n = if d > 1e-9 * (self.bounds.1 - self.bounds.0).max_element() {
             let away = (x - p) / d;

@@ -401,6 +401,15 @@ impl Shape<D2> for OutlineSolid {
 }
 
 impl Boundary<D2> for OutlineSolid {
+    fn signed_distance_on_side(&self, x: DVec2, inside: bool) -> (f64, DVec2) {
+        let (d, p) = self.closest(x);
+        if d > 0.0 {
+            let away = (x - p) / d;
+            return if inside { (-d, -away) } else { (d, away) };
+        }
+        self.signed_distance(x)
+    }
+
     fn signed_distance(&self, x: DVec2) -> (f64, DVec2) {
         let (d, p) = self.closest(x);
         let inside = self.contains(x);

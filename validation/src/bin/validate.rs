@@ -19,8 +19,8 @@
 
 use clap::{Parser, Subcommand};
 use sph_validation::{
-    contact, extreme, geometry, h5report, impacts, mps, mps_stab, plot, store, tl, tradeoff, ul,
-    workspace_root,
+    contact, extreme, geometry, h5report, impacts, mesh_physics, mps, mps_stab, plot, store, tl,
+    tradeoff, ul, workspace_root,
 };
 use std::fmt::Write as _;
 use std::process::ExitCode;
@@ -200,7 +200,7 @@ fn main() -> ExitCode {
         }
     }
     if let Command::Geometry { force } = cli.command {
-        if let Err(e) = geometry::run_all(force) {
+        if let Err(e) = geometry::run_all(force).and_then(|()| mesh_physics::run_all(force)) {
             eprintln!("error: {e}");
             return ExitCode::from(1);
         }
@@ -247,6 +247,7 @@ fn report() -> Result<(), String> {
     impacts::report(&mut md, &figs, "validation")?;
     contact::report(&mut md)?;
     geometry::report(&mut md)?;
+    mesh_physics::report(&mut md)?;
     let out = docs.join("validation.md");
     let tmp = docs.join("validation.md.tmp");
     std::fs::write(&tmp, &md).map_err(|e| e.to_string())?;
