@@ -13,6 +13,10 @@
 //!   conservative Laplacian of velocity (eq 19–20), or the non-conservative eq 18, see
 //!   [`non_nested`].
 //!
+//! Plastic bodies ([`UlSolver::with_plasticity`], OG and OAS): J2 or Johnson–Cook plasticity
+//! by the radial return of `τ` after each of its updates, with the equivalent plastic strain as
+//! history ([`plastic`]).
+//!
 //! Pressure and continuity use the low-dissipation Riemann solver (eq 11–12) with the equation of
 //! state `p = c0²(ρ − ρ0)` (eq 4), see [`riemann`]. Time integration is the position-Verlet scheme
 //! (eq 23–25) inside the dual-criteria time stepping of §5 (eq 21–22), see [`stepping`] and
@@ -68,6 +72,7 @@ pub mod contact;
 pub mod energy;
 pub mod nested;
 pub mod non_nested;
+pub mod plastic;
 pub mod riemann;
 pub mod shear;
 pub mod solver;

@@ -74,6 +74,8 @@ impl<D: Dim> UlSolver<D> {
             } else {
                 Vec::new()
             },
+            plasticity: None,
+            plastic: Vec::new(),
             rates: vec![Rates::zero(); n],
             original_index: (0..n as u32).collect(),
             free: vec![true; n],

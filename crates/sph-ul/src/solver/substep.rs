@@ -128,6 +128,7 @@ impl<D: Dim> UlSolver<D> {
         p(perm, &mut self.velocities);
         p(perm, &mut self.densities);
         p(perm, &mut self.masses);
+        p(perm, &mut self.plastic);
         p(perm, &mut self.stress);
         p(perm, &mut self.accumulated);
         p(perm, &mut self.rates);
@@ -252,12 +253,15 @@ impl<D: Dim> UlSolver<D> {
             // ENOG only.
             &mut self.accumulated[..],
             &mut self.jump_work[..],
+            // Plastic bodies only.
+            &mut self.plastic[..],
         );
+        let plasticity = self.plasticity.as_ref();
         let max_norm2 = fold_columns(
             n,
             columns,
             #[inline(always)]
-            |rows, (r, x, rho, tau, a_s, jw)| {
+            |rows, (r, x, rho, tau, a_s, jw, hist)| {
                 let mut max_norm2 = 0.0;
                 for (k, i) in rows.enumerate() {
                     let out = &mut r[k];
@@ -315,6 +319,15 @@ impl<D: Dim> UlSolver<D> {
                         rho[k] += out.density * h;
                         if !tau.is_empty() {
                             tau[k] += out.stress * h;
+                        }
+                        if let Some(plasticity) = plasticity {
+                            return_shear_stress::<D>(
+                                plasticity,
+                                &mut tau[k],
+                                &mut hist[k],
+                                m[i] / rho[k],
+                                h,
+                            );
                         }
                         if !a_s.is_empty() {
                             a_s[k] += out.shear * dt;
@@ -667,12 +680,15 @@ impl<D: Dim> UlSolver<D> {
             &mut self.stress[..],
             &mut self.pressures[..],
             &mut self.current_volumes[..],
+            // Plastic bodies only.
+            &mut self.plastic[..],
         );
+        let plasticity = self.plasticity.as_ref();
         gather_columns(
             n,
             columns,
             #[inline(always)]
-            |rows, (x, rho, tau, p, vol)| {
+            |rows, (x, rho, tau, p, vol, hist)| {
                 for (k, i) in rows.enumerate() {
                     x[k] += v[i] * h;
                     rho[k] += rates[i].density * h;
@@ -681,6 +697,9 @@ impl<D: Dim> UlSolver<D> {
                     }
                     p[k] = pressure(rho[k], rho0, c0);
                     vol[k] = m[i] / rho[k];
+                    if let Some(plasticity) = plasticity {
+                        return_shear_stress::<D>(plasticity, &mut tau[k], &mut hist[k], vol[k], h);
+                    }
                 }
             },
         );
