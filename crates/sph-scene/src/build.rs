@@ -34,6 +34,7 @@ use toml::Spanned;
 
 mod checks;
 mod parts;
+mod plasticity;
 mod preview;
 
 pub use preview::{BodyPreview, Preview};
@@ -365,6 +366,26 @@ impl Scene {
             )
         })?;
         let (constants, law) = self.material(&spec.material)?;
+        let plastic = self.plastic_law(&spec.material)?;
+        if plastic.is_some() && !plasticity::PLASTIC_METHODS.contains(&method) {
+            return Err(self.error_in(
+                &At {
+                    span: spec.material.span(),
+                    key: "law",
+                },
+                "material.law",
+                format!(
+                    "`{}` is carried by {}; {method} takes an elastic law{}",
+                    spec.material.get_ref().law,
+                    plasticity::PLASTIC_METHODS.join(" and "),
+                    if method == "ul-enog" {
+                        " (its Laplacian shear force has no stress tensor to return)"
+                    } else {
+                        ""
+                    }
+                ),
+            ));
+        }
         // Bodies: one particle set, each body a range of it.
         if spec.bodies.is_empty() {
             return Err(SceneError::new(
@@ -680,9 +701,13 @@ impl Scene {
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
                 let mut s = sph_ul::UlSolver::new(body, constants, shear, params)
-                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?
-                    .with_constraints(constraints)
-                    .with_loads(loads);
+                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
+                if let Some(law) = plastic {
+                    s = s
+                        .with_plasticity(law)
+                        .map_err(|e| self.core(spec.material.span(), "material", e))?;
+                }
+                let mut s = s.with_constraints(constraints).with_loads(loads);
                 if multi {
                     s = s
                         .with_contact(body_of)
