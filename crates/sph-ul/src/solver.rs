@@ -32,6 +32,7 @@
 use crate::artificial_stress::{self, ArtificialShear};
 use crate::contact::Contact;
 use crate::energy::{kick_with_works, ul_budget, AccumulatedWork, Energy};
+use crate::generalized::{penalty_pair, spin_rotation, GeneralizedShear};
 use crate::nested::{jaumann_rate, shear_energy, velocity_gradient_pair, NestedShear};
 use crate::non_nested::{
     conservative_laplacian_pair, default_zeta, non_conservative_laplacian_pair,
@@ -75,8 +76,19 @@ pub use params::UlParams;
 #[derive(Clone, Copy, Debug)]
 enum Variant {
     Original,
-    Artificial { epsilon: f64, n: u32, inv_w_dp: f64 },
-    NonNested { factor: f64, form: LaplacianForm },
+    Artificial {
+        epsilon: f64,
+        n: u32,
+        inv_w_dp: f64,
+    },
+    NonNested {
+        factor: f64,
+        form: LaplacianForm,
+    },
+    /// GNOG: `ξ G` of the penalty.
+    Generalized {
+        xi_g: f64,
+    },
 }
 
 /// Per-particle rates computed with `v^{n+1}` (step 4 of the module docs).
@@ -122,8 +134,11 @@ pub struct UlSolver<D: Dim> {
     masses: Vec<f64>,
     /// Shear stress `τ` (empty if not tracked).
     stress: Vec<D::Matrix>,
-    /// ENOG accumulated shear acceleration `A_s` (empty otherwise).
+    /// ENOG accumulated shear acceleration `A_s`; GNOG accumulated penalty acceleration (empty
+    /// otherwise).
     accumulated: Vec<D::Vector>,
+    /// GNOG: the velocity gradient `L` of the last rates (empty otherwise).
+    gradients: Vec<D::Matrix>,
     /// The plastic law (`None`: elastic; see [`crate::plastic`]).
     plasticity: Option<Plasticity>,
     /// Per-particle plastic history (empty for an elastic body, which pays nothing else).

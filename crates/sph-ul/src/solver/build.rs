@@ -40,6 +40,9 @@ impl<D: Dim> UlSolver<D> {
                 },
                 form,
             },
+            Shear::Generalized { xi } => Variant::Generalized {
+                xi_g: xi.unwrap_or(crate::generalized::DEFAULT_XI) * constants.shear_modulus,
+            },
         };
         let tracks_stress =
             !matches!(variant, Variant::NonNested { .. }) || params.track_shear_stress;
@@ -69,8 +72,16 @@ impl<D: Dim> UlSolver<D> {
             } else {
                 Vec::new()
             },
-            accumulated: if matches!(variant, Variant::NonNested { .. }) {
+            accumulated: if matches!(
+                variant,
+                Variant::NonNested { .. } | Variant::Generalized { .. }
+            ) {
                 vec![D::zero(); n]
+            } else {
+                Vec::new()
+            },
+            gradients: if matches!(variant, Variant::Generalized { .. }) {
+                vec![D::zero_matrix(); n]
             } else {
                 Vec::new()
             },
