@@ -361,7 +361,7 @@ impl Scene {
                 spec.method.span(),
                 "method",
                 format!(
-                    "`{method}`: allowed values are tl, tl-hf, tl-gm, ul-og, ul-oas, ul-enog, mps"
+                    "`{method}`: allowed values are tl, tl-hf, tl-gm, ul-og, ul-oas, ul-enog, ul-gnog, mps"
                 ),
             )
         })?;
@@ -377,7 +377,7 @@ impl Scene {
                 format!(
                     "`{}` is carried by {}; {method} takes an elastic law{}",
                     spec.material.get_ref().law,
-                    plasticity::PLASTIC_METHODS.join(" and "),
+                    plasticity::PLASTIC_METHODS.join(", "),
                     if method == "ul-enog" {
                         " (its Laplacian shear force has no stress tensor to return)"
                     } else {
@@ -639,6 +639,9 @@ impl Scene {
                 }
                 let shear = match method {
                     "ul-og" => sph_ul::Shear::Original,
+                    "ul-gnog" => sph_ul::Shear::Generalized {
+                        xi: keys.opt_f64("xi"),
+                    },
                     "ul-oas" => sph_ul::Shear::ArtificialStress {
                         epsilon: keys.f64("epsilon", sph_ul::artificial_stress::DEFAULT_EPSILON),
                         n: keys.count("n", sph_ul::artificial_stress::DEFAULT_EXPONENT),
@@ -848,18 +851,21 @@ pub fn numerics_keys(method: &str) -> Option<Vec<&'static str>> {
         "tl-hf" | "ul-enog" => &["zeta"][..],
         "tl-gm" => &["alpha"][..],
         "ul-oas" => &["epsilon", "n"][..],
+        "ul-gnog" => &["xi"][..],
         _ => &[][..],
     });
     Some(keys)
 }
 
 /// Every method a scene file can name (`method`, `--method`).
-pub const METHODS: &[&str] = &["tl", "tl-hf", "tl-gm", "ul-og", "ul-oas", "ul-enog", "mps"];
+pub const METHODS: &[&str] = &[
+    "tl", "tl-hf", "tl-gm", "ul-og", "ul-oas", "ul-enog", "ul-gnog", "mps",
+];
 
 fn family_of(method: &str) -> Option<Family> {
     match method {
         "tl" | "tl-hf" | "tl-gm" => Some(Family::Tl),
-        "ul-og" | "ul-oas" | "ul-enog" => Some(Family::Ul),
+        "ul-og" | "ul-oas" | "ul-enog" | "ul-gnog" => Some(Family::Ul),
         "mps" => Some(Family::Mps),
         _ => None,
     }

@@ -109,7 +109,7 @@ fn plastic_law_errors_name_the_key_in_one_line() {
     for method in ["tl-hf", "tl", "mps", "ul-enog"] {
         let e = err(&scene(method, j2));
         assert!(
-            e.contains("material.law") && e.contains("ul-og and ul-oas") && one_line(&e),
+            e.contains("material.law") && e.contains("ul-og, ul-oas, ul-gnog") && one_line(&e),
             "{method}: {e}"
         );
     }
@@ -172,4 +172,28 @@ fn johnson_cook_scene_runs_with_ul_oas() {
         record.failure.is_none() && summary["status"] == "completed",
         "{summary:?}"
     );
+}
+
+#[test]
+fn the_example_runs_with_ul_gnog_and_xi_is_checked() {
+    let scene = Scene::from_file(example())
+        .unwrap()
+        .set("method", "ul-gnog")
+        .unwrap()
+        .set("end_time", "2e-6")
+        .unwrap();
+    let (record, summary) = scene.run(&RunOptions::default()).unwrap();
+    assert!(
+        record.failure.is_none() && summary["status"] == "completed",
+        "{summary:?}"
+    );
+    let text = std::fs::read_to_string(example()).unwrap();
+    let e = err(&format!(
+        "{}\n[numerics]\nxi = -1.0\n",
+        text.replace("\"ul-og\"", "\"ul-gnog\"")
+    ));
+    assert!(e.contains("xi") && e.lines().count() == 1, "{e}");
+    // ξ is GNOG's alone.
+    let e = err(&format!("{text}\n[numerics]\nxi = 2.0\n"));
+    assert!(e.contains("xi"), "{e}");
 }

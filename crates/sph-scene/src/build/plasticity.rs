@@ -10,7 +10,7 @@ const DEFAULT_REFERENCE_STRAIN_RATE: f64 = 1.0;
 const DEFAULT_TAYLOR_QUINNEY: f64 = 0.9;
 
 /// The methods that carry a plastic law.
-pub(super) const PLASTIC_METHODS: [&str; 2] = ["ul-og", "ul-oas"];
+pub(super) const PLASTIC_METHODS: [&str; 3] = ["ul-og", "ul-oas", "ul-gnog"];
 
 /// Whether `law` names a plastic law.
 pub(super) fn is_plastic(law: &str) -> bool {
