@@ -61,7 +61,8 @@ pub(crate) fn return_shear_stress<D: Dim>(
 impl<D: Dim> UlSolver<D> {
     /// Makes the body elastic–plastic with `law` (J2 or Johnson–Cook), returning its shear
     /// stress to the yield surface after every update (see [`crate::plastic`]); the elastic
-    /// trial uses the body's shear modulus. Adds the output field `plastic_strain`
+    /// trial uses the body's shear modulus. Adds the output field `plastic_strain` (and
+    /// `temperature` for Johnson–Cook with thermal softening)
     /// (equivalent plastic strain), the figure `plastic_work`, the budget term `plastic`, and
     /// the history to checkpoints.
     ///
@@ -101,6 +102,28 @@ impl<D: Dim> UlSolver<D> {
             .iter()
             .map(|p| p.state.equivalent_plastic_strain)
             .collect()
+    }
+
+    /// Whether the law has a temperature (Johnson–Cook with thermal softening): then the output
+    /// field `temperature` is offered.
+    pub fn thermal(&self) -> bool {
+        matches!(
+            self.plastic_law().map(|p| &p.law),
+            Some(PlasticLaw::JohnsonCook(jc)) if jc.thermal.is_some()
+        )
+    }
+
+    /// Temperature per particle (K; current order): the initial temperature plus the adiabatic
+    /// rise of its plastic work. Empty unless [`UlSolver::thermal`].
+    pub fn temperatures(&self) -> Vec<f64> {
+        match self.plastic_law().map(|p| &p.law) {
+            Some(PlasticLaw::JohnsonCook(jc)) if jc.thermal.is_some() => self
+                .plastic_history()
+                .iter()
+                .map(|p| jc.temperature(p.state.temperature_rise))
+                .collect(),
+            _ => Vec::new(),
+        }
     }
 
     /// Plastic dissipation since `t = 0` summed over the particles in index order (J; 0 for

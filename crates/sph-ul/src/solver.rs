@@ -688,6 +688,9 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         if self.plasticity.is_some() {
             names.push("plastic_strain");
         }
+        if self.thermal() {
+            names.push("temperature");
+        }
         names
     }
 
@@ -736,6 +739,7 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
                 Field::Scalar(self.original_index.iter().map(|&i| i as f64).collect())
             }
             "plastic_strain" if self.plasticity.is_some() => Field::Scalar(self.plastic_strain()),
+            "temperature" if self.thermal() => Field::Scalar(self.temperatures()),
             _ => return None,
         })
     }

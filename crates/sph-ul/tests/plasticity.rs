@@ -369,3 +369,73 @@ fn an_elastic_body_has_no_plastic_history_and_a_high_yield_stress_changes_nothin
     assert_eq!(elastic.shear_stress(), plastic.shear_stress());
     assert!(plastic.plastic_strain().iter().all(|&e| e == 0.0));
 }
+
+#[test]
+fn johnson_cook_heats_where_it_flows_and_offers_the_temperature() {
+    use sph_materials::plasticity::{JohnsonCook, ThermalSoftening};
+    // OFHC copper (Johnson & Cook 1983, Table 1) on the steel block's elastic constants:
+    // 4 m/s, one advection step (≈0.65 ms: the waves cross the block many times) yields
+    // 144 of the 192 particles and leaves the others elastic; the temperature rises exactly where ε̄p > 0, by
+    // β σ_y Δε̄p/(ρ0 c_p) per increment, so at least β A ε̄p/(ρ0 c_p) (σ_y ≥ A·(1 − T*^m), T*
+    // small here).
+    let law = PlasticLaw::JohnsonCook(JohnsonCook {
+        a: 90e6,
+        b: 292e6,
+        n: 0.31,
+        c: 0.025,
+        reference_strain_rate: 1.0,
+        thermal: Some(ThermalSoftening {
+            m: 1.09,
+            room_temperature: 294.0,
+            melting_temperature: 1356.0,
+            initial_temperature: 300.0,
+            taylor_quinney: 0.9,
+            specific_heat: 383.0,
+        }),
+    });
+    let set = block::<D2>([24, 8, 1]);
+    let xc = 12.0 * DP;
+    let vel = set
+        .positions()
+        .iter()
+        .map(|p| DVec2::new(if p.x < xc { 4.0 } else { -4.0 }, 0.0))
+        .collect();
+    let mut s = UlSolver::new(
+        body(&set, vel),
+        steel(),
+        Shear::Original,
+        UlParams::default(),
+    )
+    .unwrap()
+    .with_plasticity(law)
+    .unwrap();
+    assert!(s.thermal() && s.field_names().contains(&"temperature"));
+    while s.time() < 4e-6 {
+        s.step(f64::INFINITY).unwrap();
+    }
+    let (t, ep) = (s.temperatures(), s.plastic_strain());
+    let mut heated = 0;
+    for (&t, &e) in t.iter().zip(&ep) {
+        if e > 0.0 {
+            heated += 1;
+            assert!(
+                t - 300.0 >= 0.9 * 90e6 * e / (7850.0 * 383.0) * (1.0 - 1e-12),
+                "{t} {e}"
+            );
+        } else {
+            assert_eq!(t, 300.0);
+        }
+    }
+    let rise = t.iter().fold(0.0f64, |m, &x| m.max(x - 300.0));
+    println!(
+        "{heated} of {} particles heated, by up to {rise:.2} K",
+        t.len()
+    );
+    assert!(heated > 0);
+    match s.field("temperature") {
+        Some(Field::Scalar(v)) => assert_eq!(v, t),
+        _ => panic!("no temperature field"),
+    }
+    // J2 has no temperature.
+    assert!(!colliding_block(40.0, false).thermal());
+}
