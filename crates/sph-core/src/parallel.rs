@@ -224,6 +224,8 @@ columns_for_tuple!(a: A, b: B, c: C);
 columns_for_tuple!(a: A, b: B, c: C, d: E);
 columns_for_tuple!(a: A, b: B, c: C, d: E, e: G);
 columns_for_tuple!(a: A, b: B, c: C, d: E, e: G, f: H);
+columns_for_tuple!(a: A, b: B, c: C, d: E, e: G, f: H, g: I);
+columns_for_tuple!(a: A, b: B, c: C, d: E, e: G, f: H, g: I, h: J);
 
 /// `fold(rows, part)` for consecutive ranges of rows covering `0..n`, where `part` holds those
 /// rows of every array of `columns` ([`Columns`]); the results in order. The same ranges as

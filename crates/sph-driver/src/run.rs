@@ -905,14 +905,16 @@ pub struct Run {
     options: RunOptions,
 }
 
-/// The fields [`Run`] writes by default, where the solver offers them.
-pub const DEFAULT_FIELDS: [&str; 6] = [
+/// The fields [`Run`] writes by default, where the solver offers them (`plastic_strain`:
+/// plastic bodies only).
+pub const DEFAULT_FIELDS: [&str; 7] = [
     "velocity",
     "displacement",
     "von_mises",
     "jacobian",
     "density",
     "disorder",
+    "plastic_strain",
 ];
 
 impl Run {

@@ -10,6 +10,8 @@
 //!   [`MooneyRivlinLike`] (MPS eq. 12).
 //! - [`MaterialKind`] / [`MaterialModel`]: pick a law by name in a scene.
 //! - [`von_mises`]: the equivalent stress the papers plot.
+//! - [`plasticity`]: J2 and Johnson–Cook plasticity with per-particle history ([`PlasticState`])
+//!   and the radial return of a hypoelastic deviatoric stress ([`Plasticity::return_stress`]).
 //!
 //! ```
 //! use sph_core::{Dim, D2};
@@ -30,6 +32,7 @@ pub mod constants;
 pub mod laws;
 pub mod material;
 pub mod model;
+pub mod plasticity;
 pub mod stress;
 
 pub use constants::{ElasticConstants, DENSITY_RANGE, MODULUS_RANGE};
@@ -39,4 +42,5 @@ pub use laws::neo_hookean::NeoHookean;
 pub use laws::saint_venant_kirchhoff::{LinearElastic, SaintVenantKirchhoff};
 pub use material::Material;
 pub use model::{MaterialKind, MaterialModel, MATERIAL_NAMES};
+pub use plasticity::{PlasticLaw, PlasticState, Plasticity, PLASTIC_LAW_NAMES};
 pub use stress::von_mises;

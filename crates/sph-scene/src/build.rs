@@ -34,6 +34,7 @@ use toml::Spanned;
 
 mod checks;
 mod parts;
+mod plasticity;
 mod preview;
 
 pub use preview::{BodyPreview, Preview};
@@ -360,11 +361,31 @@ impl Scene {
                 spec.method.span(),
                 "method",
                 format!(
-                    "`{method}`: allowed values are tl, tl-hf, tl-gm, ul-og, ul-oas, ul-enog, mps"
+                    "`{method}`: allowed values are tl, tl-hf, tl-gm, ul-og, ul-oas, ul-enog, ul-gnog, mps"
                 ),
             )
         })?;
         let (constants, law) = self.material(&spec.material)?;
+        let plastic = self.plastic_law(&spec.material)?;
+        if plastic.is_some() && !plasticity::PLASTIC_METHODS.contains(&method) {
+            return Err(self.error_in(
+                &At {
+                    span: spec.material.span(),
+                    key: "law",
+                },
+                "material.law",
+                format!(
+                    "`{}` is carried by {}; {method} takes an elastic law{}",
+                    spec.material.get_ref().law,
+                    plasticity::PLASTIC_METHODS.join(", "),
+                    if method == "ul-enog" {
+                        " (its Laplacian shear force has no stress tensor to return)"
+                    } else {
+                        ""
+                    }
+                ),
+            ));
+        }
         // Bodies: one particle set, each body a range of it.
         if spec.bodies.is_empty() {
             return Err(SceneError::new(
@@ -618,6 +639,9 @@ impl Scene {
                 }
                 let shear = match method {
                     "ul-og" => sph_ul::Shear::Original,
+                    "ul-gnog" => sph_ul::Shear::Generalized {
+                        xi: keys.opt_f64("xi"),
+                    },
                     "ul-oas" => sph_ul::Shear::ArtificialStress {
                         epsilon: keys.f64("epsilon", sph_ul::artificial_stress::DEFAULT_EPSILON),
                         n: keys.count("n", sph_ul::artificial_stress::DEFAULT_EXPONENT),
@@ -680,9 +704,13 @@ impl Scene {
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
                 let mut s = sph_ul::UlSolver::new(body, constants, shear, params)
-                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?
-                    .with_constraints(constraints)
-                    .with_loads(loads);
+                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
+                if let Some(law) = plastic {
+                    s = s
+                        .with_plasticity(law)
+                        .map_err(|e| self.core(spec.material.span(), "material", e))?;
+                }
+                let mut s = s.with_constraints(constraints).with_loads(loads);
                 if multi {
                     s = s
                         .with_contact(body_of)
@@ -823,18 +851,21 @@ pub fn numerics_keys(method: &str) -> Option<Vec<&'static str>> {
         "tl-hf" | "ul-enog" => &["zeta"][..],
         "tl-gm" => &["alpha"][..],
         "ul-oas" => &["epsilon", "n"][..],
+        "ul-gnog" => &["xi"][..],
         _ => &[][..],
     });
     Some(keys)
 }
 
 /// Every method a scene file can name (`method`, `--method`).
-pub const METHODS: &[&str] = &["tl", "tl-hf", "tl-gm", "ul-og", "ul-oas", "ul-enog", "mps"];
+pub const METHODS: &[&str] = &[
+    "tl", "tl-hf", "tl-gm", "ul-og", "ul-oas", "ul-enog", "ul-gnog", "mps",
+];
 
 fn family_of(method: &str) -> Option<Family> {
     match method {
         "tl" | "tl-hf" | "tl-gm" => Some(Family::Tl),
-        "ul-og" | "ul-oas" | "ul-enog" => Some(Family::Ul),
+        "ul-og" | "ul-oas" | "ul-enog" | "ul-gnog" => Some(Family::Ul),
         "mps" => Some(Family::Mps),
         _ => None,
     }

@@ -50,7 +50,8 @@ pub struct SceneSpec {
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
     /// `neo-hookean`, `linear-elastic`, `saint-venant-kirchhoff`, `kirchhoff-vol-dev`,
-    /// `mooney-rivlin` (the updated-Lagrangian methods use only the constants).
+    /// `mooney-rivlin` (the updated-Lagrangian methods use only the constants), or the plastic
+    /// `j2`, `johnson-cook` (`ul-og`, `ul-oas`).
     #[serde(default = "default_law")]
     pub law: String,
     /// Density ρ0 (kg/m³).
@@ -76,6 +77,43 @@ pub struct MaterialSpec {
     /// `kirchhoff-vol-dev`: the dimension of the isochoric split, `spatial` (d = the scene's
     /// dimension, the TL paper's; default) or `embedded-3d` (d = 3, true plane strain in 2D).
     pub deviator: Option<String>,
+    // The constants of the plastic laws `j2` and `johnson-cook` (see
+    // `sph_materials::plasticity`); keys of another law are an error.
+    /// `j2`: initial yield stress σ_0 (Pa).
+    pub yield_stress: Option<f64>,
+    /// `j2`: linear hardening modulus H (Pa), default 0 (perfectly plastic).
+    pub hardening_modulus: Option<f64>,
+    /// `j2`: saturation stress σ_∞ (Pa) of Voce hardening, with `saturation_exponent`.
+    pub saturation_stress: Option<f64>,
+    /// `j2`: saturation exponent δ of Voce hardening.
+    pub saturation_exponent: Option<f64>,
+    /// `johnson-cook`: A (Pa).
+    #[serde(rename = "A")]
+    pub jc_a: Option<f64>,
+    /// `johnson-cook`: B (Pa).
+    #[serde(rename = "B")]
+    pub jc_b: Option<f64>,
+    /// `johnson-cook`: n.
+    #[serde(rename = "n")]
+    pub jc_n: Option<f64>,
+    /// `johnson-cook`: C (default 0: rate-independent).
+    #[serde(rename = "C")]
+    pub jc_c: Option<f64>,
+    /// `johnson-cook`: m of the thermal softening (with the temperatures).
+    #[serde(rename = "m")]
+    pub jc_m: Option<f64>,
+    /// `johnson-cook`: reference strain rate ε̇0 (1/s), default 1.
+    pub reference_strain_rate: Option<f64>,
+    /// `johnson-cook`: room temperature (K).
+    pub room_temperature: Option<f64>,
+    /// `johnson-cook`: melting temperature (K).
+    pub melting_temperature: Option<f64>,
+    /// `johnson-cook`: initial temperature (K), default the room temperature.
+    pub temperature: Option<f64>,
+    /// `johnson-cook`: Taylor–Quinney fraction β of plastic work into heat, default 0.9.
+    pub taylor_quinney: Option<f64>,
+    /// `johnson-cook`: specific heat c_p (J/(kg K)), required with thermal softening.
+    pub specific_heat: Option<f64>,
 }
 
 fn default_law() -> String {

@@ -395,7 +395,7 @@ fn the_reference_documents_exactly_the_keys_a_scene_accepts() {
     accepted.extend(trace_enum::<AmplitudeSpec>("amplitude"));
     // The free-form tables: their keys are the methods' numerics and the file's parameters.
     assert!(accepted.remove("numerics") && accepted.remove("parameters"));
-    for method in ["tl", "tl-hf", "tl-gm", "ul-og", "ul-oas", "ul-enog", "mps"] {
+    for &method in sph_scene::METHODS {
         for key in sph_scene::numerics_keys(method).unwrap() {
             accepted.insert(format!("numerics.{key}"));
         }
@@ -415,7 +415,7 @@ fn the_reference_documents_exactly_the_keys_a_scene_accepts() {
 #[test]
 fn every_numerics_key_names_the_methods_that_take_it() {
     let docs = keys();
-    for method in ["tl", "tl-hf", "tl-gm", "ul-og", "ul-oas", "ul-enog", "mps"] {
+    for &method in sph_scene::METHODS {
         let family = match &method[..2] {
             "tl" => "TL",
             "ul" => "UL",

@@ -28,7 +28,8 @@
 //! that prescribes a non-zero velocity does work this budget does not count.
 //!
 //! **Budget.** `total = kinetic + volumetric + shear + contact + dissipated + diffused −
-//! artificial work − external work`, conserved by the continuous problem; the residual `total − total(t = 0)`
+//! artificial work − external work` (+ `plastic`, the plastic work, for a plastic body: see
+//! [`crate::plastic`]), conserved by the continuous problem; the residual `total − total(t = 0)`
 //! measures what the discrete scheme and the estimates leave unaccounted.
 
 use serde::{Deserialize, Serialize};

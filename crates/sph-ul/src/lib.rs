@@ -11,7 +11,14 @@
 //!   and 3D through the symmetric eigen-decomposition, see [`artificial_stress`];
 //! - [`Shear::NonNested`] (`ul-enog`): shear acceleration accumulated from the angular-momentum
 //!   conservative Laplacian of velocity (eq 19–20), or the non-conservative eq 18, see
-//!   [`non_nested`].
+//!   [`non_nested`];
+//! - [`Shear::Generalized`] (`ul-gnog`): OG's nested shear stress (any law, plastic ones
+//!   included) plus an accumulated penalty on the pair velocity that the velocity gradients do
+//!   not predict (Zhang, Wu, Lourenço & Hu 2024, arXiv 2409.11474), see [`generalized`].
+//!
+//! Plastic bodies ([`UlSolver::with_plasticity`], OG and OAS): J2 or Johnson–Cook plasticity
+//! by the radial return of `τ` after each of its updates, with the equivalent plastic strain as
+//! history ([`plastic`]).
 //!
 //! Pressure and continuity use the low-dissipation Riemann solver (eq 11–12) with the equation of
 //! state `p = c0²(ρ − ρ0)` (eq 4), see [`riemann`]. Time integration is the position-Verlet scheme
@@ -66,8 +73,10 @@ pub use glam;
 pub mod artificial_stress;
 pub mod contact;
 pub mod energy;
+pub mod generalized;
 pub mod nested;
 pub mod non_nested;
+pub mod plastic;
 pub mod riemann;
 pub mod shear;
 pub mod solver;

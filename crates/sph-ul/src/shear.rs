@@ -29,6 +29,12 @@ pub enum Shear {
         /// Eq 19 (default) or the non-conservative eq 18.
         form: LaplacianForm,
     },
+    /// SPH-GNOG: OG's nested shear stress plus the accumulated penalty on the pair velocity the
+    /// velocity gradients do not predict (arXiv 2409.11474; [`crate::generalized`]).
+    Generalized {
+        /// Penalty factor ξ; `None` = the authors' 2 ([`crate::generalized::DEFAULT_XI`]).
+        xi: Option<f64>,
+    },
 }
 
 impl Shear {
@@ -48,12 +54,18 @@ impl Shear {
         }
     }
 
+    /// GNOG with the authors' `ξ = 2`.
+    pub fn generalized() -> Self {
+        Shear::Generalized { xi: None }
+    }
+
     /// The method name as the command line spells it.
     pub fn method_name(&self) -> &'static str {
         match self {
             Shear::Original => "ul-og",
             Shear::ArtificialStress { .. } => "ul-oas",
             Shear::NonNested { .. } => "ul-enog",
+            Shear::Generalized { .. } => "ul-gnog",
         }
     }
 
@@ -69,6 +81,10 @@ impl Shear {
             }
             Shear::NonNested { zeta, .. } => match zeta {
                 Some(z) => check_positive("zeta", z),
+                None => Ok(()),
+            },
+            Shear::Generalized { xi } => match xi {
+                Some(x) => check_positive("xi", x),
                 None => Ok(()),
             },
         }

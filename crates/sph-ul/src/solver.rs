@@ -32,11 +32,13 @@
 use crate::artificial_stress::{self, ArtificialShear};
 use crate::contact::Contact;
 use crate::energy::{kick_with_works, ul_budget, AccumulatedWork, Energy};
+use crate::generalized::{penalty_pair, spin_rotation, GeneralizedShear};
 use crate::nested::{jaumann_rate, shear_energy, velocity_gradient_pair, NestedShear};
 use crate::non_nested::{
     conservative_laplacian_pair, default_zeta, non_conservative_laplacian_pair,
     shear_acceleration_rate, AccumulatedShear, LaplacianForm,
 };
+use crate::plastic::{return_shear_stress, PlasticParticle};
 use crate::riemann::{
     continuity_has_jump, continuity_jump, dissipative_pressure, pressure, pressure_energy,
     pressure_pair_factor, RiemannScheme,
@@ -61,7 +63,7 @@ use sph_core::{
     Body, CellGrid, Constraints, Dim, EnergyBudget, Error, Field, Kernel, Loads, NeighborList,
     PairKernel, Probe, Series, Solver, StepInfo, WendlandC2,
 };
-use sph_materials::{von_mises, ElasticConstants};
+use sph_materials::{von_mises, ElasticConstants, Plasticity};
 
 mod build;
 mod measures;
@@ -74,8 +76,19 @@ pub use params::UlParams;
 #[derive(Clone, Copy, Debug)]
 enum Variant {
     Original,
-    Artificial { epsilon: f64, n: u32, inv_w_dp: f64 },
-    NonNested { factor: f64, form: LaplacianForm },
+    Artificial {
+        epsilon: f64,
+        n: u32,
+        inv_w_dp: f64,
+    },
+    NonNested {
+        factor: f64,
+        form: LaplacianForm,
+    },
+    /// GNOG: `ξ G` of the penalty.
+    Generalized {
+        xi_g: f64,
+    },
 }
 
 /// Per-particle rates computed with `v^{n+1}` (step 4 of the module docs).
@@ -121,8 +134,15 @@ pub struct UlSolver<D: Dim> {
     masses: Vec<f64>,
     /// Shear stress `τ` (empty if not tracked).
     stress: Vec<D::Matrix>,
-    /// ENOG accumulated shear acceleration `A_s` (empty otherwise).
+    /// ENOG accumulated shear acceleration `A_s`; GNOG accumulated penalty acceleration (empty
+    /// otherwise).
     accumulated: Vec<D::Vector>,
+    /// GNOG: the velocity gradient `L` of the last rates (empty otherwise).
+    gradients: Vec<D::Matrix>,
+    /// The plastic law (`None`: elastic; see [`crate::plastic`]).
+    plasticity: Option<Plasticity>,
+    /// Per-particle plastic history (empty for an elastic body, which pays nothing else).
+    plastic: Vec<PlasticParticle>,
     rates: Vec<Rates<D>>,
     initial_positions: Vec<D::Vector>,
     original_index: Vec<u32>,
@@ -263,6 +283,24 @@ impl<D: Dim> UlSolver<D> {
         self.tools = set;
         self.reset_budget();
         Ok(self)
+    }
+
+    /// Makes the body plastic (checked by [`UlSolver::with_plasticity`]): a virgin history
+    /// per particle.
+    pub(crate) fn set_plasticity(&mut self, plasticity: Plasticity) {
+        self.plasticity = Some(plasticity);
+        self.plastic = vec![PlasticParticle::default(); self.len()];
+        self.reset_budget();
+    }
+
+    /// The plastic law, if any.
+    pub(crate) fn plastic_law(&self) -> Option<&Plasticity> {
+        self.plasticity.as_ref()
+    }
+
+    /// The per-particle plastic history (current order; empty if elastic).
+    pub(crate) fn plastic_history(&self) -> &[PlasticParticle] {
+        &self.plastic
     }
 
     /// Sets the budget's reference total to the current energies (while at `t = 0`).
@@ -500,6 +538,9 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
                 self.first_isolation.unwrap_or(f64::NAN),
             ),
         ];
+        if self.plasticity.is_some() {
+            figures.push(("plastic_work", self.plastic_work()));
+        }
         figures.extend(self.tools.figures());
         figures
     }
@@ -633,7 +674,7 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
     }
 
     fn field_names(&self) -> Vec<&'static str> {
-        vec![
+        let mut names = vec![
             "velocity",
             "displacement",
             "density",
@@ -643,7 +684,14 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
             "disorder",
             "fragment",
             "original_index",
-        ]
+        ];
+        if self.plasticity.is_some() {
+            names.push("plastic_strain");
+        }
+        if self.thermal() {
+            names.push("temperature");
+        }
+        names
     }
 
     /// Output fields in the current particle order (see [`UlSolver::original_index`]).
@@ -690,6 +738,8 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
             "original_index" => {
                 Field::Scalar(self.original_index.iter().map(|&i| i as f64).collect())
             }
+            "plastic_strain" if self.plasticity.is_some() => Field::Scalar(self.plastic_strain()),
+            "temperature" if self.thermal() => Field::Scalar(self.temperatures()),
             _ => return None,
         })
     }

@@ -32,7 +32,9 @@ use sph_materials::{DeviatorDimension, MaterialKind};
 pub const KL: f64 = 1.875;
 
 /// Methods the plate runs: the TL family (h = 1.15 dp) and the UL family (h = 1.3 dp).
-pub const PLATE_METHODS: &[&str] = &["tl-hf", "tl", "tl-gm", "ul-enog", "ul-og", "ul-oas"];
+pub const PLATE_METHODS: &[&str] = &[
+    "tl-hf", "tl", "tl-gm", "ul-enog", "ul-og", "ul-oas", "ul-gnog",
+];
 
 /// The oscillating plate, 2D plane strain.
 pub struct OscillatingPlate2d;

@@ -12,7 +12,7 @@ use sph_materials::ElasticConstants;
 use sph_ul::{LaplacianForm, RiemannScheme, Shear, Stepping, UlParams, UlSolver};
 
 /// The UL methods.
-pub const UL_METHODS: &[&str] = &["ul-enog", "ul-og", "ul-oas"];
+pub const UL_METHODS: &[&str] = &["ul-enog", "ul-og", "ul-oas", "ul-gnog"];
 
 /// Keys every UL case accepts (defaults: UL paper §5–6).
 pub fn ul_params() -> Vec<Param> {
@@ -51,6 +51,13 @@ pub fn ul_params() -> Vec<Param> {
         )
         .only(&["ul-oas"]),
         Param::int("as_n", 4, Range::Closed(1.0, 16.0), "OAS exponent n").only(&["ul-oas"]),
+        Param::float(
+            "gnog_xi",
+            sph_ul::generalized::DEFAULT_XI,
+            Range::Closed(1e-3, 1e3),
+            "GNOG penalty factor ξ (arXiv 2409.11474; the authors' SPHinXsys default 2)",
+        )
+        .only(&["ul-gnog"]),
         Param::float(
             "ul_cfl_acoustic",
             0.4,
@@ -122,6 +129,9 @@ pub fn ul_shear_of(method: &str, p: &Params) -> Result<Shear, CaseError> {
             } else {
                 LaplacianForm::NonConservative
             },
+        },
+        "ul-gnog" => Shear::Generalized {
+            xi: Some(p.f64("gnog_xi")),
         },
         other => {
             return Err(CaseError::UnknownMethod {

@@ -21,9 +21,22 @@ impl Scene {
             key,
         };
         let s = m.get_ref();
-        let kind: MaterialKind = s.law.parse().map_err(|e: sph_core::Error| {
-            self.error_in(&at("law"), "material.law", e.to_string())
-        })?;
+        // A plastic law's elastic part is the constants (the UL methods that carry it use only
+        // them); the methods that cannot carry it refuse it (`Scene::run_in`).
+        let kind: MaterialKind = if super::plasticity::is_plastic(&s.law) {
+            MaterialKind::LinearElastic
+        } else {
+            s.law.parse().map_err(|e: sph_core::Error| {
+                self.error_in(
+                    &at("law"),
+                    "material.law",
+                    format!(
+                        "{e}, or the plastic {}",
+                        sph_materials::PLASTIC_LAW_NAMES.join(", ")
+                    ),
+                )
+            })?
+        };
         // Options of another law: an error, never ignored.
         let mooney = matches!(kind, MaterialKind::MooneyRivlin { .. });
         for (key, given, owner) in [

@@ -40,6 +40,9 @@ impl<D: Dim> UlSolver<D> {
                 },
                 form,
             },
+            Shear::Generalized { xi } => Variant::Generalized {
+                xi_g: xi.unwrap_or(crate::generalized::DEFAULT_XI) * constants.shear_modulus,
+            },
         };
         let tracks_stress =
             !matches!(variant, Variant::NonNested { .. }) || params.track_shear_stress;
@@ -69,11 +72,21 @@ impl<D: Dim> UlSolver<D> {
             } else {
                 Vec::new()
             },
-            accumulated: if matches!(variant, Variant::NonNested { .. }) {
+            accumulated: if matches!(
+                variant,
+                Variant::NonNested { .. } | Variant::Generalized { .. }
+            ) {
                 vec![D::zero(); n]
             } else {
                 Vec::new()
             },
+            gradients: if matches!(variant, Variant::Generalized { .. }) {
+                vec![D::zero_matrix(); n]
+            } else {
+                Vec::new()
+            },
+            plasticity: None,
+            plastic: Vec::new(),
             rates: vec![Rates::zero(); n],
             original_index: (0..n as u32).collect(),
             free: vec![true; n],

@@ -90,6 +90,13 @@ impl<D: Dim> UlSolver<D> {
             self.initial_total,
         );
         // The tools' terms (minus their work on the body), only where there are tools.
+        if matches!(self.variant, Variant::Generalized { .. }) {
+            // GNOG's penalty: minus its work (kept in `shear` with the accumulated acceleration).
+            budget.terms.push(("hourglass_penalty", -self.work.shear));
+        }
+        if self.plasticity.is_some() {
+            budget.terms.push(("plastic", self.plastic_work()));
+        }
         budget.terms.extend(self.tools.budget_terms());
         if !self.tools.is_empty() {
             budget

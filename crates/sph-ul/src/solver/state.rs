@@ -62,6 +62,18 @@ impl<D: Dim> UlSolver<D> {
         );
         save_series(out, &self.series);
         self.tools.save(out);
+        // The plastic history, only for a plastic body (an elastic checkpoint is unchanged).
+        if !self.plastic.is_empty() {
+            let column = |f: fn(&PlasticParticle) -> f64| -> Vec<f64> {
+                self.plastic.iter().map(f).collect()
+            };
+            out.f64s(
+                "plastic_strain",
+                &column(|p| p.state.equivalent_plastic_strain),
+            );
+            out.f64s("temperature_rise", &column(|p| p.state.temperature_rise));
+            out.f64s("plastic_dissipation", &column(|p| p.dissipated));
+        }
         Ok(())
     }
 
@@ -121,6 +133,16 @@ impl<D: Dim> UlSolver<D> {
         (self.initial_momentum, self.constraint_impulse) = (m[0], m[1]);
         restore_series(input, &mut self.series)?;
         self.tools.restore(input)?;
+        if !self.plastic.is_empty() {
+            let eps = input.f64s("plastic_strain", n)?;
+            let temperature = input.f64s("temperature_rise", n)?;
+            let dissipated = input.f64s("plastic_dissipation", n)?;
+            for (k, p) in self.plastic.iter_mut().enumerate() {
+                p.state.equivalent_plastic_strain = eps[k];
+                p.state.temperature_rise = temperature[k];
+                p.dissipated = dissipated[k];
+            }
+        }
         self.check_finite()
     }
 }

@@ -128,6 +128,8 @@ impl<D: Dim> UlSolver<D> {
         p(perm, &mut self.velocities);
         p(perm, &mut self.densities);
         p(perm, &mut self.masses);
+        p(perm, &mut self.plastic);
+        p(perm, &mut self.gradients);
         p(perm, &mut self.stress);
         p(perm, &mut self.accumulated);
         p(perm, &mut self.rates);
@@ -178,8 +180,12 @@ impl<D: Dim> UlSolver<D> {
     /// this is the same as a gather followed by those updates.
     pub(super) fn compute_rates(&mut self, drift: Option<(f64, f64)>) -> f64 {
         let grad = self.tracks_stress;
+        // ENOG's output stress and GNOG's penalty need the gradient exact for linear fields.
         let corrected = self.params.corrected_velocity_gradient
-            || matches!(self.variant, Variant::NonNested { .. });
+            || matches!(
+                self.variant,
+                Variant::NonNested { .. } | Variant::Generalized { .. }
+            );
         match self.variant {
             Variant::NonNested { factor, form } => match (grad, form) {
                 (true, LaplacianForm::Conservative) => {
@@ -252,12 +258,17 @@ impl<D: Dim> UlSolver<D> {
             // ENOG only.
             &mut self.accumulated[..],
             &mut self.jump_work[..],
+            // Plastic bodies only.
+            &mut self.plastic[..],
+            // GNOG only.
+            &mut self.gradients[..],
         );
+        let plasticity = self.plasticity.as_ref();
         let max_norm2 = fold_columns(
             n,
             columns,
             #[inline(always)]
-            |rows, (r, x, rho, tau, a_s, jw)| {
+            |rows, (r, x, rho, tau, a_s, jw, hist, grads)| {
                 let mut max_norm2 = 0.0;
                 for (k, i) in rows.enumerate() {
                     let out = &mut r[k];
@@ -302,6 +313,9 @@ impl<D: Dim> UlSolver<D> {
                             l = l * b[i];
                         }
                         out.stress = jaumann_rate::<D>(l, tau[k], g);
+                        if !grads.is_empty() {
+                            grads[k] = l;
+                        }
                     }
                     if LAP != 0 {
                         out.shear = shear_acceleration_rate::<D>(lap, factor, g, rho_i);
@@ -315,6 +329,15 @@ impl<D: Dim> UlSolver<D> {
                         rho[k] += out.density * h;
                         if !tau.is_empty() {
                             tau[k] += out.stress * h;
+                        }
+                        if let Some(plasticity) = plasticity {
+                            return_shear_stress::<D>(
+                                plasticity,
+                                &mut tau[k],
+                                &mut hist[k],
+                                m[i] / rho[k],
+                                h,
+                            );
                         }
                         if !a_s.is_empty() {
                             a_s[k] += out.shear * dt;
@@ -379,6 +402,13 @@ impl<D: Dim> UlSolver<D> {
             Variant::NonNested { .. } => self.forces_loop(
                 AccumulatedShear {
                     a_s: &self.accumulated,
+                },
+                forces,
+            ),
+            Variant::Generalized { .. } => self.forces_loop(
+                GeneralizedShear {
+                    tau: &self.stress,
+                    penalty: &self.accumulated,
                 },
                 forces,
             ),
@@ -584,9 +614,42 @@ impl<D: Dim> UlSolver<D> {
         // Rates with v^{n+1}, then eq 25 and eq 20 (A_s accumulated, never reset; used by the
         // next step), in the same pass.
         self.max_speed = self.compute_rates(Some((half, dt)));
+        if let Variant::Generalized { xi_g } = self.variant {
+            self.accumulate_penalty(xi_g, dt);
+        }
         self.acoustic_steps += 1;
         self.pair_visits +=
             (self.list.num_pairs() + self.contact.as_ref().map_or(0, |c| c.num_pairs())) as u64;
+    }
+
+    /// GNOG (arXiv 2409.11474, [`crate::generalized`]): the penalty acceleration, rotated with
+    /// each particle's spin over `dt` and increased by `dt` times the pair sum of the mismatch
+    /// between the velocities `v^{n+1}` and their gradients' linear prediction (a gather: each
+    /// particle writes only its own accumulator). Used by the next step's forces, as ENOG's
+    /// `A_s`.
+    fn accumulate_penalty(&mut self, xi_g: f64, dt: f64) {
+        let (list, pairs) = (&self.list, &self.pairs);
+        let (v, l, vol, m) = (
+            &self.velocities,
+            &self.gradients,
+            &self.current_volumes,
+            &self.masses,
+        );
+        gather(
+            &mut self.accumulated,
+            #[inline(always)]
+            |i, a| {
+                let mut rate = D::zero();
+                // V_j/ρ_i as V_i V_j/m_i of the half-step volumes (symmetric pair forces).
+                let vi_mi = vol[i] / m[i];
+                for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
+                    let j = j as usize;
+                    let vj_rho_i = vol[j] * vi_mi;
+                    rate += penalty_pair::<D>(v[i] - v[j], l[i], l[j], pk, vj_rho_i, xi_g);
+                }
+                *a = spin_rotation::<D>(l[i], dt) * *a + rate * dt;
+            },
+        );
     }
 
     /// Contact with the rigid tools after the kick of an acoustic step `dt` (the time already
@@ -667,12 +730,15 @@ impl<D: Dim> UlSolver<D> {
             &mut self.stress[..],
             &mut self.pressures[..],
             &mut self.current_volumes[..],
+            // Plastic bodies only.
+            &mut self.plastic[..],
         );
+        let plasticity = self.plasticity.as_ref();
         gather_columns(
             n,
             columns,
             #[inline(always)]
-            |rows, (x, rho, tau, p, vol)| {
+            |rows, (x, rho, tau, p, vol, hist)| {
                 for (k, i) in rows.enumerate() {
                     x[k] += v[i] * h;
                     rho[k] += rates[i].density * h;
@@ -681,6 +747,9 @@ impl<D: Dim> UlSolver<D> {
                     }
                     p[k] = pressure(rho[k], rho0, c0);
                     vol[k] = m[i] / rho[k];
+                    if let Some(plasticity) = plasticity {
+                        return_shear_stress::<D>(plasticity, &mut tau[k], &mut hist[k], vol[k], h);
+                    }
                 }
             },
         );
