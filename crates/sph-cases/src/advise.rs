@@ -130,6 +130,7 @@ const CASE_CLASSES: &[(&str, &str, u32)] = &[
     ("slab-tension-2d", "static", 2),
     ("pressurised-ring-2d", "pressure", 2),
     ("hertz-impact-3d", "impact", 3),
+    ("taylor-bar-3d", "impact", 3),
     ("colliding-rings-2d", "impact", 2),
     ("colliding-balls-3d", "impact", 3),
     ("ball-plate-2d", "impact", 2),

@@ -19,6 +19,7 @@ pub mod quasi_static;
 pub mod slab_tension_2d;
 pub mod static_cantilever_2d;
 pub mod stent_3d;
+pub mod taylor_bar_3d;
 pub mod tl_common;
 pub mod twisting_column_3d;
 pub mod ul_common;
@@ -42,6 +43,7 @@ pub static ALL: &[&dyn Case] = &[
     &ball_plate::BallPlate2d,
     &ball_plate::BallPlate3d,
     &hertz_impact_3d::HertzImpact3d,
+    &taylor_bar_3d::TaylorBar3d,
     &cantilever_plate_2d::CantileverPlate2d,
     &static_cantilever_2d::StaticCantilever2d,
     &incline_block::InclineBlock,
