@@ -3,8 +3,8 @@
 
 use crate::resolve::{resolve, Override, Resolved};
 use crate::spec::{
-    AmplitudeSpec, BodySpec, ConstraintSpec, GeometryFileSpec, LoadSpec, MaterialSpec, SceneSpec,
-    ShapeSpec, ToolShapeSpec, ToolSpec,
+    AmplitudeSpec, BodySpec, ConstraintSpec, GeometryFileSpec, LoadSpec, MaterialSpec,
+    MaterialsSpec, SceneSpec, ShapeSpec, ToolShapeSpec, ToolSpec,
 };
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
@@ -364,7 +364,10 @@ impl Scene {
                 ),
             )
         })?;
-        let (constants, law) = self.material(&spec.material)?;
+        let materials = self.materials()?;
+        // The first body's material (TL's one body; every body's with one material).
+        let (constants, law) = materials.built[materials.of_body[0]];
+        let several_materials = materials.built.len() > 1;
         // Bodies: one particle set, each body a range of it.
         if spec.bodies.is_empty() {
             return Err(SceneError::new(
@@ -393,6 +396,10 @@ impl Scene {
         let n = set.len();
         let body_of: Vec<u32> = (0..n)
             .map(|i| ranges.iter().position(|(_, r)| r.contains(&i)).unwrap_or(0) as u32)
+            .collect();
+        let material_of: Vec<u32> = body_of
+            .iter()
+            .map(|&b| materials.of_body[b as usize] as u32)
             .collect();
         let constraints = self.constraints::<D>(&set, &ranges)?;
         let (loads, pressures) = self.loads::<D>(&set, &ranges, &dps)?;
@@ -679,10 +686,15 @@ impl Scene {
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
-                let mut s = sph_ul::UlSolver::new(body, constants, shear, params)
-                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?
-                    .with_constraints(constraints)
-                    .with_loads(loads);
+                let mut s = if several_materials {
+                    let table = materials.built.iter().map(|m| m.0).collect();
+                    sph_ul::UlSolver::with_materials(body, table, material_of, shear, params)
+                } else {
+                    sph_ul::UlSolver::new(body, constants, shear, params)
+                }
+                .map_err(|e| self.solver_error(e, &numerics_span, &known))?
+                .with_constraints(constraints)
+                .with_loads(loads);
                 if multi {
                     s = s
                         .with_contact(body_of)
@@ -741,8 +753,13 @@ impl Scene {
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
-                let mut s = sph_mps::MpsSolver::new(body, law, params)
-                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
+                let mut s = if several_materials {
+                    let table = materials.built.into_iter().map(|m| m.1).collect();
+                    sph_mps::MpsSolver::with_materials(body, table, material_of, params)
+                } else {
+                    sph_mps::MpsSolver::new(body, law, params)
+                }
+                .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
                 for sp in pressures {
                     s = s
                         .with_surface_pressure(sp)

@@ -53,6 +53,7 @@ pub fn keys() -> Vec<KeyDoc> {
         // Parameters.
         k("parameters.NAME", "number, string, boolean or array", "—", "all", "a named value that `${…}` in any other value uses (`dp = \"${H / 20}\"`); a name is a letter or `_` then letters, digits, `_`, not a scene key or a function name; `--set NAME=VALUE` overrides it"),
         // Material.
+        k("material.name", "string", "— (required in a [[material]] list)", "all", "the name a body's `material` key chooses; `--set material.NAME.KEY=VALUE` sets a key of a named material"),
         k("material.law", "string", "neo-hookean", "TL, MPS", "neo-hookean, linear-elastic (= saint-venant-kirchhoff), saint-venant-kirchhoff, kirchhoff-vol-dev, mooney-rivlin; UL uses the elastic constants only"),
         k("material.density", "number", "required", "all", "reference density ρ0 (kg/m³)"),
         k("material.youngs_modulus", "number", "— (or K and G)", "all", "Young's modulus E (Pa), with `nu`"),
@@ -102,6 +103,7 @@ pub fn keys() -> Vec<KeyDoc> {
         k("body[].relax_steps", "integer", "200", "all", "fitted layout: relaxation steps (0: the lattice fill as it is)"),
         k("body[].particles", "string", "— (or shape)", "all", "a CSV particle file, `x,y[,z],volume` per line (`#` comments), relative to the scene file"),
         k("body[].velocity", VEC, "at rest", "all", "uniform initial velocity (m/s)"),
+        k("body[].material", "string", "the [material], or the only [[material]]", "all", "the name of the body's material; several materials in one run: UL and MPS (a TL method runs one body)"),
         // Constraints.
         k("constraint[].type", "string", "required", "all", "`fixed` (held), `velocity` (moved at `velocity`), `components` (only the `components` marked true are prescribed: a roller grip)"),
         k("constraint[].region", "a shape", "required", "all", "the particles inside it"),
@@ -194,7 +196,7 @@ pub fn keys() -> Vec<KeyDoc> {
 const SECTIONS: [(&str, &str, &str); 14] = [
     ("Top level", "", ""),
     ("`[parameters]`", "parameters.", "Parameters are resolved before anything else is read: a string that is one `${…}` becomes the value (a parameter's value of any type, or a number from arithmetic: `+ - * / ^`, parentheses, `pi`, `sqrt abs exp ln log10 sin cos tan asin acos atan floor ceil round min max`, all in floating point), a longer string gets each `${…}` replaced by its text (`name = \"plate-${dp}\"`). Parameters may use each other in any order."),
-    ("`[material]`", "material.", "One material for every body: E and ν, or K and G, and the law's own constants."),
+    ("`[material]` or `[[material]]`", "material.", "One `[material]` for every body, or a list of named `[[material]]` tables that each `[[body]]` chooses from with `material = \"NAME\"` (every material must be some body's; UL and MPS run bodies of different materials, the time step from the stiffest). Each holds E and ν, or K and G, and the law's own constants."),
     ("`[numerics]`", "numerics.", "The keys of the method's family; another method's key is an error. Defaults are the library's (`TlParams::default()`, `UlParams::default()`, `MpsParams::default()`)."),
     ("`[output]`", "output.", ""),
     ("`[[body]]`", "body[].", "One or more bodies; a TL method runs one (rigid parts are tools), UL and MPS bodies meet through the method's body–body contact."),

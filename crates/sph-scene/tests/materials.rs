@@ -1,0 +1,265 @@
+//! Issue 43, item 1: a material per body. `[[material]]` tables with a `name`, `material =
+//! "NAME"` in a `[[body]]`; a single `[material]` keeps working. Bad references are one-line
+//! errors naming the key before any work; two materials of the same constants give the bits of
+//! one; the output carries each particle's body and material.
+
+use sph_driver::RunOptions;
+use sph_output::{read_file, FileContents};
+use sph_scene::Scene;
+use std::path::{Path, PathBuf};
+
+/// Two 10 × 5 mm blocks 2 mm apart, meeting at 2 m/s each, `METHOD`, `MATERIALS` and each
+/// body's `MATERIAL_L`/`MATERIAL_R` line to fill in.
+const PAIR: &str = r#"dimension = 2
+method = "METHOD"
+end_time = 1.5e-3
+
+MATERIALS
+
+[output]
+fields = ["velocity", "body", "material"]
+
+[[body]]
+name = "left"
+dp = 1e-3
+shape = { box = { min = [-0.011, 0.0], max = [-0.001, 0.005] } }
+velocity = [2.0, 0.0]
+MATERIAL_L
+
+[[body]]
+name = "right"
+dp = 1e-3
+shape = { box = { min = [0.001, 0.0], max = [0.011, 0.005] } }
+velocity = [-2.0, 0.0]
+MATERIAL_R
+"#;
+
+const ONE: &str = "[material]\ndensity = 1000.0\nyoungs_modulus = 1e6\nnu = 0.3";
+
+/// Two named materials: `soft` as [`ONE`], `hard` with Young's modulus `e_hard`.
+fn two(e_hard: &str) -> String {
+    format!(
+        "[[material]]\nname = \"soft\"\ndensity = 1000.0\nyoungs_modulus = 1e6\nnu = 0.3\n\n\
+         [[material]]\nname = \"hard\"\ndensity = 1000.0\nyoungs_modulus = {e_hard}\nnu = 0.3"
+    )
+}
+
+fn pair(method: &str, materials: &str, left: &str, right: &str) -> String {
+    PAIR.replace("METHOD", method)
+        .replace("MATERIALS", materials)
+        .replace("MATERIAL_L", left)
+        .replace("MATERIAL_R", right)
+}
+
+fn parse(text: &str) -> Scene {
+    Scene::parse(text, "s.toml", Path::new("."), "s").unwrap()
+}
+
+/// The error of parsing, or else of running, `text`.
+fn error(text: &str) -> String {
+    match Scene::parse(text, "s.toml", Path::new("."), "s") {
+        Err(e) => e.to_string(),
+        Ok(s) => s
+            .run(&RunOptions::default())
+            .expect_err("should fail")
+            .to_string(),
+    }
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sph-scene-mat-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn run(scene: &Scene, dir: &Path, name: &str) -> FileContents {
+    let options = RunOptions {
+        output: Some(dir.join(name)),
+        ..RunOptions::default()
+    };
+    let (record, _) = scene.run(&options).unwrap();
+    assert!(record.failure.is_none(), "{name}: {:?}", record.failure);
+    read_file(record.file.unwrap()).unwrap()
+}
+
+/// The last snapshot's `field`, as bits.
+fn last(c: &FileContents, field: &str) -> Vec<u64> {
+    let s = c.snapshots.last().unwrap();
+    let x = s.dataset(field).unwrap().as_f64().unwrap();
+    x.iter().map(|v| v.to_bits()).collect()
+}
+
+#[test]
+fn bad_material_references_are_one_line_errors_naming_the_key() {
+    let soft = "material = \"soft\"";
+    let hard = "material = \"hard\"";
+    let cases = [
+        // An unknown name.
+        (
+            pair("ul-enog", &two("1e9"), soft, "material = \"steel\""),
+            "body[1].material",
+            "`steel`: no material of that name (the materials: `soft`, `hard`)",
+        ),
+        // A body without a material among several.
+        (
+            pair("ul-enog", &two("1e9"), soft, ""),
+            "body[1].material",
+            "required: the scene has several [[material]]",
+        ),
+        // A material no body uses.
+        (
+            pair("ul-enog", &two("1e9"), soft, soft),
+            "material.hard",
+            "no body uses material[1]",
+        ),
+        // Two materials of one name.
+        (
+            pair(
+                "ul-enog",
+                &two("1e9").replace("\"hard\"", "\"soft\""),
+                soft,
+                soft,
+            ),
+            "material[1].name",
+            "`soft` is the name of another material",
+        ),
+        // A [[material]] without a name.
+        (
+            pair(
+                "ul-enog",
+                &two("1e9").replace("name = \"hard\"\n", ""),
+                soft,
+                soft,
+            ),
+            "material[1].name",
+            "a [[material]] needs a name",
+        ),
+        // A name [material] does not have.
+        (
+            pair("ul-enog", ONE, soft, ""),
+            "body[0].material",
+            "`soft`: no material of that name (none has a name)",
+        ),
+        // A constant of a named material: its path is the one --set uses.
+        (
+            pair("ul-enog", &two("-1e9"), soft, hard),
+            "material.hard.youngs_modulus",
+            "",
+        ),
+        // TL runs one body (so one material).
+        (
+            pair("tl-hf", &two("1e9"), soft, hard),
+            "body[1]",
+            "a TL method runs one body",
+        ),
+    ];
+    for (text, key, message) in cases {
+        let e = error(&text);
+        assert!(!e.contains('\n'), "one line: {e}");
+        assert!(e.contains(&format!(": {key}:")), "{key}: {e}");
+        assert!(e.contains(message), "{message}: {e}");
+    }
+    // Both forms at once: the TOML parser's refusal, at the second.
+    let both = pair("ul-enog", &format!("{ONE}\n\n{}", two("1e9")), soft, hard);
+    let e = error(&both);
+    assert!(
+        !e.contains('\n') && e.contains(": material: give one [material]"),
+        "{e}"
+    );
+    let both = pair("ul-enog", &format!("{}\n\n{ONE}", two("1e9")), soft, hard);
+    let e = error(&both);
+    assert!(
+        !e.contains('\n') && e.contains(": material: give one [material]"),
+        "{e}"
+    );
+}
+
+#[test]
+fn one_material_named_or_not_and_two_equal_materials_give_the_same_bits() {
+    let dir = scratch("same");
+    for method in ["ul-enog", "mps"] {
+        let a = run(
+            &parse(&pair(method, ONE, "", "")),
+            &dir,
+            &format!("{method}-one"),
+        );
+        // [material] named, chosen by name.
+        let named = ONE.replace("[material]", "[material]\nname = \"soft\"");
+        let b = run(
+            &parse(&pair(method, &named, "material = \"soft\"", "")),
+            &dir,
+            &format!("{method}-named"),
+        );
+        // Two materials of the same constants: the per-particle material path.
+        let c = run(
+            &parse(&pair(
+                method,
+                &two("1e6"),
+                "material = \"soft\"",
+                "material = \"hard\"",
+            )),
+            &dir,
+            &format!("{method}-two"),
+        );
+        let x = last(&a, "position");
+        assert!(!x.is_empty());
+        assert_eq!(x, last(&b, "position"), "{method}: named [material]");
+        assert_eq!(x, last(&c, "position"), "{method}: two equal materials");
+        assert_eq!(last(&a, "velocity"), last(&c, "velocity"), "{method}");
+        // The output carries body and material ids, per particle in the output order.
+        let body = c.snapshots[0].dataset("body").unwrap().as_f64().unwrap();
+        let material = c.snapshots[0]
+            .dataset("material")
+            .unwrap()
+            .as_f64()
+            .unwrap();
+        assert_eq!(body.len(), 100);
+        assert_eq!(body, material, "{method}: body k has material k");
+        assert_eq!(body.iter().filter(|&&b| b == 1.0).count(), 50, "{method}");
+        let one = a.snapshots[0]
+            .dataset("material")
+            .unwrap()
+            .as_f64()
+            .unwrap();
+        assert!(one.iter().all(|&m| m == 0.0));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_named_material_takes_overrides_by_its_name() {
+    let text = pair(
+        "ul-enog",
+        &two("1e6"),
+        "material = \"soft\"",
+        "material = \"hard\"",
+    );
+    let dir = scratch("set");
+    for method in ["ul-enog", "mps"] {
+        let text = text.replace("ul-enog", method);
+        let set = parse(&text)
+            .set("material.hard.youngs_modulus", "1e8")
+            .unwrap();
+        // The same value written in the file (the second material's line).
+        let k = text.rfind("youngs_modulus = 1e6").unwrap();
+        let written = parse(&format!(
+            "{}youngs_modulus = 1e8{}",
+            &text[..k],
+            &text[k + "youngs_modulus = 1e6".len()..]
+        ));
+        let a = run(&set, &dir, &format!("{method}-set"));
+        let b = run(&written, &dir, &format!("{method}-written"));
+        let c = run(&parse(&text), &dir, &format!("{method}-soft"));
+        assert_eq!(last(&a, "position"), last(&b, "position"), "{method}");
+        assert_ne!(last(&a, "position"), last(&c, "position"), "{method}");
+        // A bad value through --set names the override.
+        let e = parse(&text)
+            .set("material.hard.nu", "0.7")
+            .and_then(|s| s.run(&RunOptions::default()).map(|_| s))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("material.hard.nu") && e.contains("--set"), "{e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
