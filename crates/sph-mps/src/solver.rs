@@ -572,7 +572,9 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// body's stiffness is that of the softest material among its particles.
     ///
     /// # Errors
-    /// A `body_of` of the wrong length, or a non-positive distance or stiffness factor.
+    /// A `body_of` of the wrong length, a non-positive distance or stiffness factor, or two
+    /// bodies closer than `r_e` at `t = 0` (their particles would share reference neighbours:
+    /// bonded, not in contact).
     pub fn with_contact(mut self, contact: Contact) -> Result<Self, Error> {
         let n = self.len();
         let bodies = contact
@@ -588,7 +590,31 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
                 youngs[b as usize] = youngs[b as usize].min(e);
             }
         }
-        self.contact = Some(ResolvedContact::new::<D>(contact, n, self.dp, &youngs)?);
+        let resolved = ResolvedContact::new::<D>(contact, n, self.dp, &youngs)?;
+        // The WLS kinematics join the particles of the reference neighbour list for good:
+        // bodies that close would be bonded, not in contact.
+        let body = &resolved.body_of;
+        if let Some((i, j)) = (0..n).find_map(|i| {
+            self.list
+                .neighbors(i)
+                .iter()
+                .find(|&&j| body[j as usize] != body[i])
+                .map(|&j| (i, j))
+        }) {
+            return Err(Error::invalid(
+                "contact.body_of",
+                format!(
+                    "particles {i} (body {}) and {j} (body {}) are reference neighbours",
+                    body[i], body[j as usize]
+                ),
+                &format!(
+                    "bodies at least r_e = {} apart at t = 0 (closer particles of two bodies \
+                     would be bonded by the reference neighbour list, not in contact)",
+                    sph_core::error::Num(self.re)
+                ),
+            ));
+        }
+        self.contact = Some(resolved);
         self.refresh();
         Ok(self)
     }
