@@ -608,9 +608,9 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
                     body[i], body[j as usize]
                 ),
                 &format!(
-                    "bodies at least r_e = {} apart at t = 0 (closer particles of two bodies \
-                     would be bonded by the reference neighbour list, not in contact)",
-                    sph_core::error::Num(self.re)
+                    "bodies at least r_e = {} dp apart at t = 0 (closer particles of two \
+                     bodies would be bonded by the reference neighbour list, not in contact)",
+                    self.params.re_over_l0
                 ),
             ));
         }
