@@ -467,10 +467,13 @@ impl Scene {
             |solver: &mut dyn Solver<D>| -> Result<(RunRecord, Map<String, Json>), SceneError> {
                 let offered = solver.field_names();
                 // The driver checks the list (offered, none twice) before the run.
+                // Several bodies: each particle's body and material id too.
+                let ids: &[&str] = if multi { &["body", "material"] } else { &[] };
                 let names: Vec<String> = match &fields {
                     Some(f) => f.clone(),
                     None => sph_driver::run::DEFAULT_FIELDS
                         .iter()
+                        .chain(ids)
                         .filter(|f| offered.contains(f))
                         .map(|f| f.to_string())
                         .collect(),

@@ -94,7 +94,7 @@ pub fn keys() -> Vec<KeyDoc> {
         k("output.monitor_interval", "number", "end_time/200", "all", "time between samples of the disorder indicator, the energies and the probe fields (s)"),
         k("output.probe_interval", "number", "0", "all", "time between probe samples (s); 0: every step"),
         k("output.max_steps", "integer", "0", "all", "most steps the run may take (0: no limit); reaching it stops the run with a diagnostic, results kept"),
-        k("output.fields", "array of strings", "velocity, displacement, von_mises, jacobian, density, disorder (those the method offers)", "all", "the fields written with every snapshot"),
+        k("output.fields", "array of strings", "velocity, displacement, von_mises, jacobian, density, disorder (those the method offers); with several bodies also body, material", "all", "the fields written with every snapshot"),
         // Bodies.
         k("body[].name", "string", "required", "all", "the body's name (constraints, loads and overrides `body.NAME.KEY` refer to it)"),
         k("body[].dp", "number", "required", "all", "particle spacing (m)"),

@@ -263,3 +263,39 @@ fn a_named_material_takes_overrides_by_its_name() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The body and material ids are written by default in a scene of several bodies, and not in a
+/// scene of one (whose results files stay as they were).
+#[test]
+fn several_bodies_write_their_ids_by_default() {
+    let dir = scratch("default");
+    let no_fields = |text: String| {
+        text.replace(
+            "fields = [\"velocity\", \"body\", \"material\"]",
+            "snapshot_interval = 0.0",
+        )
+    };
+    for method in ["ul-enog", "mps"] {
+        let two = run(
+            &parse(&no_fields(pair(method, ONE, "", ""))),
+            &dir,
+            &format!("{method}-two"),
+        );
+        // The same without the right block.
+        let full = no_fields(pair(method, ONE, "", ""));
+        let one = &full[..full.find("[[body]]\nname = \"right\"").unwrap()];
+        let one = run(&parse(one), &dir, &format!("{method}-one"));
+        for field in ["body", "material"] {
+            assert!(
+                two.snapshots[0].dataset(field).is_some(),
+                "{method} {field}"
+            );
+            assert!(
+                one.snapshots[0].dataset(field).is_none(),
+                "{method} {field}"
+            );
+        }
+        assert!(one.snapshots[0].dataset("velocity").is_some(), "{method}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
