@@ -194,6 +194,30 @@ fn mps_resumed_run_is_bit_identical() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// Bodies of two materials (examples/scenes/stiff_soft.toml, a stiffness ratio of 1000) in UL
+/// and MPS: the resumed run puts the per-particle material ids back with the particles (UL
+/// reorders them).
+#[test]
+fn several_materials_resumed_runs_are_bit_identical() {
+    for method in ["ul-enog", "mps"] {
+        let dir = resumed_run_is_bit_identical(
+            &format!("materials-{method}"),
+            &[
+                "run",
+                "stiff_soft.toml",
+                "--method",
+                method,
+                "--set",
+                "end_time=1.2e-3",
+                "--set",
+                "output.snapshot_interval=4e-4",
+            ],
+            "5e-4",
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}
+
 /// The incline block with Coulomb friction in every family: the resumed run carries the
 /// tools' meters, contact and sticking counts, their work on the body and their series (the
 /// friction columns and the summary's `friction_work` compare equal).

@@ -9,7 +9,9 @@
 //!
 //! with `r_c` the contact distance (default `dp`: lattice neighbours of two touching bodies
 //! start to push at the spacing they would have inside one body) and `k = κ E dp^(d−2)` (κ the
-//! stiffness factor, E the small-strain Young's modulus). Being central and derived from a
+//! stiffness factor, E the small-strain Young's modulus; between bodies of different materials
+//! the softer one's: a penalty stiffer than the softer body adds nothing but a shorter stable
+//! step). Being central and derived from a
 //! potential, it conserves linear and angular momentum and total energy (the contact energy is
 //! reported with the strain energy). Contact pairs are found every step from the current
 //! positions with the core's cell list; a scene without contact never searches.
@@ -45,11 +47,13 @@ impl Contact {
 pub(crate) struct ResolvedContact {
     pub body_of: Vec<u32>,
     pub distance: f64,
-    pub stiffness: f64,
+    /// `κ E dp^(d−2)` per body.
+    pub stiffness: Vec<f64>,
 }
 
 impl ResolvedContact {
-    pub fn new<D: Dim>(c: Contact, n: usize, dp: f64, youngs: f64) -> Result<Self, Error> {
+    /// `youngs[b]`: body `b`'s Young's modulus.
+    pub fn new<D: Dim>(c: Contact, n: usize, dp: f64, youngs: &[f64]) -> Result<Self, Error> {
         if c.body_of.len() != n {
             return Err(Error::invalid(
                 "contact.body_of",
@@ -62,7 +66,10 @@ impl ResolvedContact {
         Ok(Self {
             body_of: c.body_of,
             distance: c.distance_over_dp * dp,
-            stiffness: c.stiffness_factor * youngs * dp.powi(D::D as i32 - 2),
+            stiffness: youngs
+                .iter()
+                .map(|&e| c.stiffness_factor * e * dp.powi(D::D as i32 - 2))
+                .collect(),
         })
     }
 
@@ -73,8 +80,9 @@ impl ResolvedContact {
         forces: &mut [D::Vector],
     ) -> Result<f64, Error> {
         let grid = CellGrid::<D>::build(positions, self.distance)?;
-        let (rc, k) = (self.distance, self.stiffness);
+        let rc = self.distance;
         let body = &self.body_of;
+        let stiffness = &self.stiffness;
         // Per-particle energies summed in index order: the same for every thread count.
         let mut energies = vec![0.0; positions.len()];
         gather2(
@@ -83,6 +91,7 @@ impl ResolvedContact {
             #[inline(always)]
             |i, f, energy| {
                 let xi = positions[i];
+                let k_i = stiffness[body[i] as usize];
                 let mut sum = D::zero();
                 let mut e = 0.0;
                 // Gather over the candidates in the order the grid gives them (deterministic).
@@ -90,6 +99,7 @@ impl ResolvedContact {
                     if body[j as usize] == body[i] {
                         return;
                     }
+                    let k = k_i.min(stiffness[body[j as usize] as usize]);
                     let d = xi - xj;
                     let r = D::norm(d);
                     if r < rc && r > 0.0 {

@@ -142,11 +142,14 @@ impl Energy {
 
 /// Hamiltonian MPS solver for one body. See the crate documentation.
 pub struct MpsSolver<D: Dim, M: Material<D>> {
-    material: M,
+    /// The materials (one for a solver built by [`MpsSolver::new`]).
+    materials: Vec<M>,
+    /// Index into `materials` per particle.
+    material: Vec<u16>,
     params: MpsParams,
     dp: f64,
     re: f64,
-    density: f64,
+    /// The largest sound speed of the materials: the time step's.
     sound_speed: f64,
     // Reference configuration (never changes).
     reference: Vec<D::Vector>,
@@ -287,7 +290,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// current positions.
     fn compute_forces(&mut self) {
         wls::deformation_and_stress::<D, M>(
-            &self.material,
+            (&self.materials, &self.material),
             &self.list,
             &self.g,
             &self.volumes,
@@ -488,9 +491,25 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         &self.params
     }
 
-    /// The material.
+    /// The first material (the only one of a solver built by [`MpsSolver::new`]).
     pub fn material(&self) -> &M {
+        &self.materials[0]
+    }
+
+    /// The materials ([`MpsSolver::with_materials`]).
+    pub fn materials(&self) -> &[M] {
+        &self.materials
+    }
+
+    /// The material index of each particle.
+    pub fn material_ids(&self) -> &[u16] {
         &self.material
+    }
+
+    /// Particle `i`'s material.
+    #[inline(always)]
+    fn material_of(&self, i: usize) -> &M {
+        &self.materials[self.material[i] as usize]
     }
 
     /// The initial spacing `l0`.
@@ -549,18 +568,53 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         &self.accelerations
     }
 
-    /// Adds penalty contact between the bodies of this solver (see [`crate::contact`]).
+    /// Adds penalty contact between the bodies of this solver (see [`crate::contact`]); each
+    /// body's stiffness is that of the softest material among its particles.
     ///
     /// # Errors
-    /// A `body_of` of the wrong length, or a non-positive distance or stiffness factor.
+    /// A `body_of` of the wrong length, a non-positive distance or stiffness factor, or two
+    /// bodies closer than `r_e` at `t = 0` (their particles would share reference neighbours:
+    /// bonded, not in contact).
     pub fn with_contact(mut self, contact: Contact) -> Result<Self, Error> {
-        let youngs = self.material.constants().youngs_modulus;
-        self.contact = Some(ResolvedContact::new::<D>(
-            contact,
-            self.len(),
-            self.dp,
-            youngs,
-        )?);
+        let n = self.len();
+        let bodies = contact
+            .body_of
+            .iter()
+            .map(|&b| b as usize + 1)
+            .max()
+            .unwrap_or(0);
+        let mut youngs = vec![f64::INFINITY; bodies];
+        if contact.body_of.len() == n {
+            for (i, &b) in contact.body_of.iter().enumerate() {
+                let e = Material::<D>::constants(self.material_of(i)).youngs_modulus;
+                youngs[b as usize] = youngs[b as usize].min(e);
+            }
+        }
+        let resolved = ResolvedContact::new::<D>(contact, n, self.dp, &youngs)?;
+        // The WLS kinematics join the particles of the reference neighbour list for good:
+        // bodies that close would be bonded, not in contact.
+        let body = &resolved.body_of;
+        if let Some((i, j)) = (0..n).find_map(|i| {
+            self.list
+                .neighbors(i)
+                .iter()
+                .find(|&&j| body[j as usize] != body[i])
+                .map(|&j| (i, j))
+        }) {
+            return Err(Error::invalid(
+                "contact.body_of",
+                format!(
+                    "particles {i} (body {}) and {j} (body {}) are reference neighbours",
+                    body[i], body[j as usize]
+                ),
+                &format!(
+                    "bodies at least r_e = {} dp apart at t = 0 (closer particles of two \
+                     bodies would be bonded by the reference neighbour list, not in contact)",
+                    self.params.re_over_l0
+                ),
+            ));
+        }
+        self.contact = Some(resolved);
         self.refresh();
         Ok(self)
     }
@@ -577,7 +631,13 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// As [`ToolSet::new`]: a tool name that is not a name or is used twice, a tool at or above
     /// the sound speed.
     pub fn with_tools(mut self, tools: Vec<RigidTool<D>>) -> Result<Self, Error> {
-        let mut set = ToolSet::new(tools, &[], self.sound_speed)?;
+        // A tool must be slower than sound in the softest material it may touch.
+        let c_min = self
+            .materials
+            .iter()
+            .map(|m| m.constants().sound_speed)
+            .fold(f64::INFINITY, f64::min);
+        let mut set = ToolSet::new(tools, &[], c_min)?;
         set.reset_series(self.time);
         self.tools = set;
         Ok(self)
@@ -715,26 +775,46 @@ impl<D: Dim, M: Material<D>> Solver<D> for MpsSolver<D, M> {
 
     fn field_names(&self) -> Vec<&'static str> {
         let mut names = DEFORMATION_FIELDS.to_vec();
-        names.extend(["von_mises", "disorder"]);
+        names.extend(["von_mises", "disorder", "body", "material"]);
         names
     }
 
+    /// The deformation fields, `von_mises`, `disorder`; `body` (the body id of
+    /// [`MpsSolver::with_contact`], 0 without) and `material` (the index into
+    /// [`MpsSolver::materials`]).
     fn field(&self, name: &str) -> Option<Field<D>> {
         match name {
             "von_mises" => Some(Field::Scalar(
                 self.deformation
                     .par_iter()
-                    .map(|&f| von_mises(self.material.cauchy_stress_3d(f)))
+                    .enumerate()
+                    .map(|(i, &f)| von_mises(self.material_of(i).cauchy_stress_3d(f)))
                     .collect(),
             )),
             "disorder" => Some(Field::Scalar(self.disorder())),
+            "body" => Some(Field::Scalar(match &self.contact {
+                Some(c) => c.body_of.iter().map(|&b| f64::from(b)).collect(),
+                None => vec![0.0; self.len()],
+            })),
+            "material" => Some(Field::Scalar(
+                self.material.iter().map(|&m| f64::from(m)).collect(),
+            )),
+            "density" if self.materials.len() > 1 => Some(Field::Scalar(
+                self.deformation
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &f)| {
+                        Material::<D>::constants(self.material_of(i)).density / D::det(f)
+                    })
+                    .collect(),
+            )),
             _ => deformation_field::<D>(
                 name,
                 &self.positions,
                 &self.reference,
                 &self.velocities,
                 &self.deformation,
-                self.density,
+                Material::<D>::constants(&self.materials[0]).density,
             ),
         }
     }

@@ -41,11 +41,11 @@ pub(crate) struct Stabilisation<D: Dim> {
 }
 
 impl<D: Dim> Stabilisation<D> {
-    /// Constants for strength `alpha` (> 0) and small-strain shear modulus `mu`, from the
-    /// reference pairs `(w_ij, X_ij)` of every particle in list order.
+    /// Constants for strength `alpha` (> 0) and each particle's small-strain shear modulus
+    /// `mu[i]`, from the reference pairs `(w_ij, X_ij)` of every particle in list order.
     pub fn new(
         alpha: f64,
-        mu: f64,
+        mu: &[f64],
         list: &NeighborList,
         pairs: &[(f64, D::Vector)],
         volumes: &[f64],
@@ -55,7 +55,7 @@ impl<D: Dim> Stabilisation<D> {
         let scale = (0..volumes.len())
             .map(|i| {
                 let sum_w: f64 = pairs[list.range(i)].iter().map(|p| p.0).sum();
-                alpha * mu * volumes[i] / sum_w
+                alpha * mu[i] * volumes[i] / sum_w
             })
             .collect();
         Ok(Self {

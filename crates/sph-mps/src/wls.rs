@@ -232,9 +232,10 @@ pub fn deformation_gradient<D: Dim>(
 }
 
 /// Pass 1 of a force evaluation, parallel over particles: `F_i` (eq 4) and the stress term
-/// `T_i = V_i P(F_i)` of eq 7 (`P = F S`, eq 2–3).
+/// `T_i = V_i P(F_i)` of eq 7 (`P = F S`, eq 2–3), `P` of particle `i`'s material
+/// (`(laws, material)`: the law of particle `i` is `laws[material[i]]`).
 pub fn deformation_and_stress<D: Dim, M: Material<D>>(
-    material: &M,
+    (laws, material): (&[M], &[u16]),
     list: &NeighborList,
     g: &[D::Vector],
     volumes: &[f64],
@@ -248,7 +249,7 @@ pub fn deformation_and_stress<D: Dim, M: Material<D>>(
         #[inline(always)]
         |i, f, t| {
             *f = deformation_gradient::<D>(list, i, g, x);
-            *t = material.first_piola_kirchhoff(*f) * volumes[i];
+            *t = laws[material[i] as usize].first_piola_kirchhoff(*f) * volumes[i];
         },
     );
 }

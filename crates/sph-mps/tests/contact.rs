@@ -81,3 +81,27 @@ fn contact_input_is_validated() {
     let e = s.with_contact(Contact::between(vec![0; 3])).err().unwrap();
     assert!(e.to_string().contains("contact.body_of"), "{e}");
 }
+
+/// Two bodies within r_e of each other at t = 0 would share reference neighbours (bonded, not
+/// in contact): refused before any step.
+#[test]
+fn bodies_sharing_reference_neighbours_are_refused() {
+    let a = block::<D2>([6, 6, 1]);
+    let mut b = block::<D2>([6, 6, 1]);
+    // Facing particles 2 dp apart (surfaces 1 dp): within r_e = 2.1 dp. (The test above has
+    // them 4 dp apart.)
+    b.translate(DVec2::new(7.0 * DP, 0.0));
+    let mut set = ParticleSet::<D2>::new();
+    set.extend(&a).unwrap();
+    let second = set.extend(&b).unwrap();
+    let n = set.len();
+    let body_of: Vec<u32> = (0..n).map(|i| second.contains(&i) as u32).collect();
+    let body = Body::<D2>::new(set.positions().to_vec(), set.volumes().to_vec(), DP);
+    let e = MpsSolver::new(body, svk(), MpsParams::default())
+        .unwrap()
+        .with_contact(Contact::between(body_of))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("contact.body_of") && e.contains("r_e"), "{e}");
+}

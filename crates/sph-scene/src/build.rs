@@ -3,8 +3,8 @@
 
 use crate::resolve::{resolve, Override, Resolved};
 use crate::spec::{
-    AmplitudeSpec, BodySpec, ConstraintSpec, GeometryFileSpec, LoadSpec, MaterialSpec, SceneSpec,
-    ShapeSpec, ToolShapeSpec, ToolSpec,
+    AmplitudeSpec, BodySpec, ConstraintSpec, GeometryFileSpec, LoadSpec, MaterialSpec,
+    MaterialsSpec, SceneSpec, ShapeSpec, ToolShapeSpec, ToolSpec,
 };
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
@@ -365,18 +365,42 @@ impl Scene {
                 ),
             )
         })?;
-        let (constants, law) = self.material(&spec.material)?;
-        let plastic = self.plastic_law(&spec.material)?;
+        let materials = self.materials()?;
+        // The first body's material (TL's one body; every body's with one material).
+        let (constants, law) = materials.built[materials.of_body[0]];
+        let several_materials = materials.built.len() > 1;
+        let (mspan, mspec) = &materials.specs[materials.of_body[0]];
+        if several_materials {
+            if let Some((span, s)) = materials
+                .specs
+                .iter()
+                .find(|(_, s)| plasticity::is_plastic(&s.law))
+            {
+                return Err(self.error_in(
+                    &At {
+                        span: span.clone(),
+                        key: "law",
+                    },
+                    "material.law",
+                    format!(
+                        "`{}`: a plastic law is carried when the scene has one material; this one has {}",
+                        s.law.trim(),
+                        materials.specs.len()
+                    ),
+                ));
+            }
+        }
+        let plastic = self.plastic_law(mspan.clone(), mspec)?;
         if plastic.is_some() && !plasticity::PLASTIC_METHODS.contains(&method) {
             return Err(self.error_in(
                 &At {
-                    span: spec.material.span(),
+                    span: mspan.clone(),
                     key: "law",
                 },
                 "material.law",
                 format!(
                     "`{}` is carried by {}; {method} takes an elastic law{}",
-                    spec.material.get_ref().law,
+                    mspec.law,
                     plasticity::PLASTIC_METHODS.join(", "),
                     if method == "ul-enog" {
                         " (its Laplacian shear force has no stress tensor to return)"
@@ -414,6 +438,10 @@ impl Scene {
         let n = set.len();
         let body_of: Vec<u32> = (0..n)
             .map(|i| ranges.iter().position(|(_, r)| r.contains(&i)).unwrap_or(0) as u32)
+            .collect();
+        let material_of: Vec<u32> = body_of
+            .iter()
+            .map(|&b| materials.of_body[b as usize] as u32)
             .collect();
         let constraints = self.constraints::<D>(&set, &ranges)?;
         let (loads, pressures) = self.loads::<D>(&set, &ranges, &dps)?;
@@ -481,10 +509,13 @@ impl Scene {
             |solver: &mut dyn Solver<D>| -> Result<(RunRecord, Map<String, Json>), SceneError> {
                 let offered = solver.field_names();
                 // The driver checks the list (offered, none twice) before the run.
+                // Several bodies: each particle's body and material id too.
+                let ids: &[&str] = if multi { &["body", "material"] } else { &[] };
                 let names: Vec<String> = match &fields {
                     Some(f) => f.clone(),
                     None => sph_driver::run::DEFAULT_FIELDS
                         .iter()
+                        .chain(ids)
                         .filter(|f| offered.contains(f))
                         .map(|f| f.to_string())
                         .collect(),
@@ -703,12 +734,17 @@ impl Scene {
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
-                let mut s = sph_ul::UlSolver::new(body, constants, shear, params)
-                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
+                let mut s = if several_materials {
+                    let table = materials.built.iter().map(|m| m.0).collect();
+                    sph_ul::UlSolver::with_materials(body, table, material_of, shear, params)
+                } else {
+                    sph_ul::UlSolver::new(body, constants, shear, params)
+                }
+                .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
                 if let Some(law) = plastic {
                     s = s
                         .with_plasticity(law)
-                        .map_err(|e| self.core(spec.material.span(), "material", e))?;
+                        .map_err(|e| self.core(mspan.clone(), "material", e))?;
                 }
                 let mut s = s.with_constraints(constraints).with_loads(loads);
                 if multi {
@@ -769,8 +805,13 @@ impl Scene {
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
                 let tools = self.tools::<D>()?;
-                let mut s = sph_mps::MpsSolver::new(body, law, params)
-                    .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
+                let mut s = if several_materials {
+                    let table = materials.built.into_iter().map(|m| m.1).collect();
+                    sph_mps::MpsSolver::with_materials(body, table, material_of, params)
+                } else {
+                    sph_mps::MpsSolver::new(body, law, params)
+                }
+                .map_err(|e| self.solver_error(e, &numerics_span, &known))?;
                 for sp in pressures {
                     s = s
                         .with_surface_pressure(sp)

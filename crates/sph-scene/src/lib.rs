@@ -1,6 +1,6 @@
 //! # sph-scene: scenes from TOML files
 //!
-//! A scene file declares a whole run — bodies from shapes, one material, one method, regions
+//! A scene file declares a whole run — bodies from shapes, their materials, one method, regions
 //! for constraints, grips, loads and probes, rigid tools, the output schedule — so a new scene
 //! needs no Rust. `sph run scene.toml` runs one; [`Scene::from_file`] and [`Scene::run`] do the
 //! same from Rust, and build the scene with exactly the library calls a Rust program would make
@@ -12,11 +12,11 @@
 //! method = "tl-hf"              # tl, tl-hf, tl-gm, ul-og, ul-oas, ul-enog, mps
 //! end_time = 2.5e-3
 //!
-//! [material]                    # one material for every body
-//! law = "neo-hookean"           # neo-hookean, linear-elastic, saint-venant-kirchhoff,
-//! density = 1100.0              # kirchhoff-vol-dev, mooney-rivlin (UL uses the constants)
-//! youngs_modulus = 1e7          # or bulk_modulus and shear_modulus
-//! nu = 0.45
+//! [material]                    # one material for every body (or [[material]] tables,
+//! law = "neo-hookean"           # each with a name that a body's material = "NAME" picks)
+//! density = 1100.0              # neo-hookean, linear-elastic, saint-venant-kirchhoff,
+//! youngs_modulus = 1e7          # kirchhoff-vol-dev, mooney-rivlin (UL uses the constants);
+//! nu = 0.45                     # E and nu, or bulk_modulus and shear_modulus
 //!
 //! [numerics]                    # optional; the keys of the method's family (below)
 //! dt_stretch = true

@@ -53,6 +53,7 @@ pub fn keys() -> Vec<KeyDoc> {
         // Parameters.
         k("parameters.NAME", "number, string, boolean or array", "—", "all", "a named value that `${…}` in any other value uses (`dp = \"${H / 20}\"`); a name is a letter or `_` then letters, digits, `_`, not a scene key or a function name; `--set NAME=VALUE` overrides it"),
         // Material.
+        k("material.name", "string", "— (required in a [[material]] list)", "all", "the name a body's `material` key chooses; `--set material.NAME.KEY=VALUE` sets a key of a named material"),
         k("material.law", "string", "neo-hookean", "all", "elastic: neo-hookean, linear-elastic (= saint-venant-kirchhoff), saint-venant-kirchhoff, kirchhoff-vol-dev, mooney-rivlin (TL, MPS; UL uses the elastic constants only); plastic (ul-og, ul-oas, ul-gnog; the other methods refuse it): j2, johnson-cook, with the elastic constants for the elastic part"),
         k("material.density", "number", "required", "all", "reference density ρ0 (kg/m³)"),
         k("material.youngs_modulus", "number", "— (or K and G)", "all", "Young's modulus E (Pa), with `nu`"),
@@ -109,7 +110,7 @@ pub fn keys() -> Vec<KeyDoc> {
         k("output.monitor_interval", "number", "end_time/200", "all", "time between samples of the disorder indicator, the energies and the probe fields (s)"),
         k("output.probe_interval", "number", "0", "all", "time between probe samples (s); 0: every step"),
         k("output.max_steps", "integer", "0", "all", "most steps the run may take (0: no limit); reaching it stops the run with a diagnostic, results kept"),
-        k("output.fields", "array of strings", "velocity, displacement, von_mises, jacobian, density, disorder, plastic_strain (those the method offers)", "all", "the fields written with every snapshot"),
+        k("output.fields", "array of strings", "velocity, displacement, von_mises, jacobian, density, disorder, plastic_strain (those the method offers); with several bodies also body, material", "all", "the fields written with every snapshot"),
         // Bodies.
         k("body[].name", "string", "required", "all", "the body's name (constraints, loads and overrides `body.NAME.KEY` refer to it)"),
         k("body[].dp", "number", "required", "all", "particle spacing (m)"),
@@ -118,6 +119,7 @@ pub fn keys() -> Vec<KeyDoc> {
         k("body[].relax_steps", "integer", "200", "all", "fitted layout: relaxation steps (0: the lattice fill as it is)"),
         k("body[].particles", "string", "— (or shape)", "all", "a CSV particle file, `x,y[,z],volume` per line (`#` comments), relative to the scene file"),
         k("body[].velocity", VEC, "at rest", "all", "uniform initial velocity (m/s)"),
+        k("body[].material", "string", "the [material], or the only [[material]]", "all", "the name of the body's material; several materials in one run: UL and MPS (a TL method runs one body)"),
         // Constraints.
         k("constraint[].type", "string", "required", "all", "`fixed` (held), `velocity` (moved at `velocity`), `components` (only the `components` marked true are prescribed: a roller grip)"),
         k("constraint[].region", "a shape", "required", "all", "the particles inside it"),
@@ -210,7 +212,7 @@ pub fn keys() -> Vec<KeyDoc> {
 const SECTIONS: [(&str, &str, &str); 14] = [
     ("Top level", "", ""),
     ("`[parameters]`", "parameters.", "Parameters are resolved before anything else is read: a string that is one `${…}` becomes the value (a parameter's value of any type, or a number from arithmetic: `+ - * / ^`, parentheses, `pi`, `sqrt abs exp ln log10 sin cos tan asin acos atan floor ceil round min max`, all in floating point), a longer string gets each `${…}` replaced by its text (`name = \"plate-${dp}\"`). Parameters may use each other in any order."),
-    ("`[material]`", "material.", "One material for every body: E and ν, or K and G, and the law's own constants."),
+    ("`[material]` or `[[material]]`", "material.", "One `[material]` for every body, or a list of named `[[material]]` tables that each `[[body]]` chooses from with `material = \"NAME\"` (every material must be some body's; UL and MPS run bodies of different materials, the time step from the stiffest). Each holds E and ν, or K and G, and the law's own constants."),
     ("`[numerics]`", "numerics.", "The keys of the method's family; another method's key is an error. Defaults are the library's (`TlParams::default()`, `UlParams::default()`, `MpsParams::default()`)."),
     ("`[output]`", "output.", ""),
     ("`[[body]]`", "body[].", "One or more bodies; a TL method runs one (rigid parts are tools), UL and MPS bodies meet through the method's body–body contact."),

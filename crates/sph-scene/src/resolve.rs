@@ -146,11 +146,28 @@ pub(crate) fn resolve(
         SceneError::new(file, offset.map(|o| line_of(original, o)), key, message)
     };
     let doc = Document::parse(original).map_err(|e| {
-        fail(
-            e.span().map(|s| s.start),
-            "scene",
-            e.message().trim().to_string(),
-        )
+        let offset = e.span().map(|s| s.start);
+        // `[material]` and `[[material]]` together: say which rule it breaks.
+        let line = offset.map_or("", |o| {
+            let start = original[..o.min(original.len())]
+                .rfind('\n')
+                .map_or(0, |i| i + 1);
+            original[start..].lines().next().unwrap_or("")
+        });
+        let header = line
+            .trim()
+            .trim_start_matches('[')
+            .trim_end_matches(']')
+            .trim();
+        if e.message().contains("duplicate key") && header == "material" {
+            return fail(
+                offset,
+                "material",
+                "give one [material] table (every body's) or named [[material]] tables, not both"
+                    .into(),
+            );
+        }
+        fail(offset, "scene", e.message().trim().to_string())
     })?;
     let root = doc.as_table();
     if root.contains_key("case") && !root.contains_key("body") {

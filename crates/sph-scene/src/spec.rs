@@ -16,8 +16,9 @@ pub struct SceneSpec {
     pub method: Spanned<String>,
     /// Simulated end time (s).
     pub end_time: Spanned<f64>,
-    /// The material of every body.
-    pub material: Spanned<MaterialSpec>,
+    /// The material of every body (`[material]`), or named materials the bodies choose from
+    /// (`[[material]]`).
+    pub material: Spanned<MaterialsSpec>,
     /// Method parameters (keys of the method family; see the crate documentation).
     pub numerics: Option<Spanned<toml::Table>>,
     /// Output schedule.
@@ -44,11 +45,52 @@ pub struct SceneSpec {
     pub parameters: Option<toml::Table>,
 }
 
+/// The scene's materials: one `[material]` table, or a list of `[[material]]` tables each with
+/// a `name` that a body's `material` key chooses.
+// Parsed once per scene: the unboxed table is simpler to match and its size is irrelevant.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug)]
+pub enum MaterialsSpec {
+    /// `[material]`: the material of every body (and of the bodies without a `material` key).
+    One(MaterialSpec),
+    /// `[[material]]`: named materials.
+    List(Vec<Spanned<MaterialSpec>>),
+}
+
+impl<'de> Deserialize<'de> for MaterialsSpec {
+    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        struct Either;
+        impl<'de> serde::de::Visitor<'de> for Either {
+            type Value = MaterialsSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a [material] table or a list of [[material]] tables")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<Self::Value, A::Error> {
+                MaterialSpec::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(MaterialsSpec::One)
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> Result<Self::Value, A::Error> {
+                Vec::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(MaterialsSpec::List)
+            }
+        }
+        d.deserialize_any(Either)
+    }
+}
+
 /// The material: a law and its constants (Young's modulus and Poisson's ratio, or bulk and
 /// shear moduli).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
+    /// The name a body's `material` key gives (required in a `[[material]]` list).
+    pub name: Option<String>,
     /// `neo-hookean`, `linear-elastic`, `saint-venant-kirchhoff`, `kirchhoff-vol-dev`,
     /// `mooney-rivlin` (the updated-Lagrangian methods use only the constants), or the plastic
     /// `j2`, `johnson-cook` (`ul-og`, `ul-oas`).
@@ -289,6 +331,8 @@ pub struct BodySpec {
     pub particles: Option<String>,
     /// Uniform initial velocity.
     pub velocity: Option<Vec<f64>>,
+    /// The name of its material (default: the `[material]` table, or the only `[[material]]`).
+    pub material: Option<String>,
 }
 
 /// A constraint on the particles of a region.

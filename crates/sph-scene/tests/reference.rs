@@ -107,11 +107,16 @@ impl<'de> Deserializer<'de> for Trace<'_> {
         deserialize_str => visit_str(""),
         deserialize_string => visit_string(String::new()),
         deserialize_unit => visit_unit(),
-        deserialize_any => visit_unit(),
         deserialize_ignored_any => visit_unit(),
         deserialize_bytes => visit_bytes(&[]),
         deserialize_byte_buf => visit_byte_buf(Vec::new()),
         deserialize_identifier => visit_str(""),
+    }
+
+    /// Only `[material]`/`[[material]]` asks for any type: traced as the list (its entries'
+    /// keys at `material[]`, which the reference documents as `material.`).
+    fn deserialize_any<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Stop> {
+        self.deserialize_seq(v)
     }
 
     fn deserialize_option<V: Visitor<'de>>(self, v: V) -> Result<V::Value, Stop> {
@@ -389,7 +394,11 @@ fn trace_enum<'de, T: Deserialize<'de>>(path: &'static str) -> BTreeSet<String> 
 
 #[test]
 fn the_reference_documents_exactly_the_keys_a_scene_accepts() {
-    let mut accepted = trace::<SceneSpec>("");
+    // The keys of a `[[material]]` entry are those of `[material]`.
+    let mut accepted: BTreeSet<String> = trace::<SceneSpec>("")
+        .into_iter()
+        .map(|k| k.replace("material[].", "material."))
+        .collect();
     accepted.extend(trace_enum::<ShapeSpec>("shape"));
     accepted.extend(trace_enum::<ToolShapeSpec>("tool-shape"));
     accepted.extend(trace_enum::<AmplitudeSpec>("amplitude"));

@@ -629,10 +629,12 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
 
     fn field_names(&self) -> Vec<&'static str> {
         let mut names = DEFORMATION_FIELDS.to_vec();
-        names.extend(["von_mises", "disorder"]);
+        names.extend(["von_mises", "disorder", "body", "material"]);
         names
     }
 
+    /// The deformation fields, `von_mises`, `disorder`; `body` and `material` (0: a TL solver
+    /// runs one body of one material, as the UL and MPS fields of those names).
     fn field(&self, name: &str) -> Option<Field<D>> {
         match name {
             "von_mises" => Some(Field::Scalar(
@@ -642,6 +644,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
                     .collect(),
             )),
             "disorder" => Some(Field::Scalar(self.disorder())),
+            "body" | "material" => Some(Field::Scalar(vec![0.0; self.positions.len()])),
             _ => deformation_field::<D>(
                 name,
                 &self.positions,

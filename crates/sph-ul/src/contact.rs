@@ -5,17 +5,19 @@
 //! body). Particles of different bodies closer than the kernel support push each other apart
 //! with the contact pressure of the contact density
 //!
-//! `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,  `p_c,i = κ c0² ρ_c,i`,
+//! `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,  `p_c,i = κ c0,i² ρ_c,i`,
 //! `a_i −= (2/m_i) Σ_j ½(p_c,i + p_c,j) V_i V_j W′_ij e_ij`,
 //!
-//! with the scale `κ` ([`crate::UlParams::contact_scale`], 1 = docs/methods.md). Only pairs closer
+//! with the scale `κ` ([`crate::UlParams::contact_scale`], 1 = docs/methods.md) and `c0,i` the
+//! sound speed of particle `i`'s body's material (the stiffness of each side, as SPHinXsys). Only pairs closer
 //! than `dp` raise the contact density, so bodies whose surface particles (half a spacing inside
 //! the surface) are further apart than `dp` do not interact: the contact starts when the
 //! surfaces touch. Each pair term is antisymmetric, so linear momentum is conserved to
 //! round-off; repulsive only (bodies separate freely).
 //!
 //! **Contact energy.** With `V = m/ρ0` the force is `−∂U_c/∂x_i` of
-//! `U_c = Σ_i κ c0² m_i ρ_c,i² / (2 ρ0²)` ([`contact_energy`]) for pairs closer than `dp`; beyond
+//! `U_c = Σ_i κ c0,i² m_i ρ_c,i² / (2 ρ0,i²)` ([`contact_energy`]) for pairs closer than `dp`
+//! and bodies of one density; beyond
 //! `dp` a pair still carries the force of its partners' contact pressures through `W′`, which
 //! `U_c` does not contain, and `V = m/ρ` differs from `m/ρ0` by the volumetric strain. So `U_c`
 //! is an estimate of the stored contact energy, and the solver also accumulates the exact work
@@ -25,6 +27,7 @@
 use crate::solver::gather;
 use sph_core::pairs::fill_pair_kernels;
 use sph_core::{Dim, Error, NeighborList, PairKernel, WendlandC2};
+use sph_materials::ElasticConstants;
 
 /// Contact state of a solver whose particles form several bodies.
 #[derive(Clone, Debug)]
@@ -39,8 +42,10 @@ pub(crate) struct Contact<D: Dim> {
     pairs: Vec<PairKernel<D>>,
     /// `W(dp)`.
     w_dp: f64,
-    /// `κ c0²`.
-    stiffness: f64,
+    /// `κ c0²` per body (`c0` of the body's material).
+    stiffness: Vec<f64>,
+    /// `ρ0` per body.
+    rho0: Vec<f64>,
     /// Contact densities `ρ_c` of the last force evaluation.
     density: Vec<f64>,
     /// Contact accelerations of the last force evaluation.
@@ -48,8 +53,9 @@ pub(crate) struct Contact<D: Dim> {
 }
 
 impl<D: Dim> Contact<D> {
-    /// `body` in the solver's current order; `κ` scales the contact pressure.
-    pub fn new(body: Vec<u32>, w_dp: f64, scale: f64, c0: f64) -> Self {
+    /// `body` in the solver's current order; `κ` scales the contact pressure; `materials[b]`
+    /// is body `b`'s material.
+    pub fn new(body: Vec<u32>, w_dp: f64, scale: f64, materials: &[ElasticConstants]) -> Self {
         let n = body.len();
         let bodies = body.iter().map(|&b| b as usize + 1).max().unwrap_or(0);
         Self {
@@ -58,7 +64,11 @@ impl<D: Dim> Contact<D> {
             list: NeighborList::default(),
             pairs: Vec::new(),
             w_dp,
-            stiffness: scale * c0 * c0,
+            stiffness: materials
+                .iter()
+                .map(|c| scale * c.sound_speed * c.sound_speed)
+                .collect(),
+            rho0: materials.iter().map(|c| c.density).collect(),
             density: vec![0.0; n],
             accelerations: vec![D::zero(); n],
         }
@@ -122,16 +132,19 @@ impl<D: Dim> Contact<D> {
             self.w_dp,
             &mut self.density,
         );
-        let (list, pairs, rho_c, k) = (&self.list, &self.pairs, &self.density, self.stiffness);
+        let (list, pairs, rho_c) = (&self.list, &self.pairs, &self.density);
+        let (body, k) = (&self.body, &self.stiffness);
         gather(
             &mut self.accelerations,
             #[inline(always)]
             |i, a| {
                 let v_i = masses[i] / densities[i];
+                let k_i = k[body[i] as usize];
                 let mut acc = D::zero();
                 for (pk, &j) in pairs[list.range(i)].iter().zip(list.neighbors(i)) {
                     let j = j as usize;
-                    let p_star = 0.5 * k * (rho_c[i] + rho_c[j]);
+                    let k_j = k[body[j] as usize];
+                    let p_star = contact_pressure(k_i, rho_c[i], k_j, rho_c[j]);
                     acc += pk.e * contact_pair_factor(p_star, v_i, masses[j] / densities[j], pk.dw);
                 }
                 *a = acc / masses[i];
@@ -149,13 +162,7 @@ impl<D: Dim> Contact<D> {
 
     /// The contact energy estimate [`contact_energy`] at `positions` (allocates; for monitor
     /// samples).
-    pub fn energy(
-        &self,
-        positions: &[D::Vector],
-        masses: &[f64],
-        kernel: &WendlandC2<D>,
-        rho0: f64,
-    ) -> f64 {
+    pub fn energy(&self, positions: &[D::Vector], masses: &[f64], kernel: &WendlandC2<D>) -> f64 {
         if self.list.num_pairs() == 0 {
             return 0.0;
         }
@@ -166,7 +173,11 @@ impl<D: Dim> Contact<D> {
         masses
             .iter()
             .zip(&density)
-            .map(|(&m, &rho_c)| contact_energy(m, rho_c, self.stiffness, rho0))
+            .zip(&self.body)
+            .map(|((&m, &rho_c), &b)| {
+                let b = b as usize;
+                contact_energy(m, rho_c, self.stiffness[b], self.rho0[b])
+            })
             .sum()
     }
 
@@ -201,6 +212,18 @@ fn contact_density<D: Dim>(
                 .sum();
         },
     );
+}
+
+/// The pair's contact pressure `p* = ½(p_c,i + p_c,j)` with `p_c = κ c0² ρ_c` of each side's
+/// own stiffness `k = κ c0²` (SPHinXsys's contact force); for bodies of one stiffness written
+/// `½ k (ρ_c,i + ρ_c,j)`, the form (and the bits) of the one-material contact.
+#[inline(always)]
+pub fn contact_pressure(k_i: f64, rho_c_i: f64, k_j: f64, rho_c_j: f64) -> f64 {
+    if k_i == k_j {
+        0.5 * k_i * (rho_c_i + rho_c_j)
+    } else {
+        0.5 * (k_i * rho_c_i + k_j * rho_c_j)
+    }
 }
 
 /// Contact force of one pair (docs/methods.md, SPHinXsys's contact force), the factor of `e_ij` in

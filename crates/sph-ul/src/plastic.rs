@@ -79,6 +79,13 @@ impl<D: Dim> UlSolver<D> {
                  return to a yield surface; use ul-og or ul-oas)",
             ));
         }
+        if self.materials().len() > 1 {
+            return Err(Error::invalid(
+                "material.law",
+                law.name(),
+                "one material for a plastic law (a body of several materials is elastic for now)",
+            ));
+        }
         if self.step_count() > 0 {
             return Err(Error::invalid(
                 "plasticity",

@@ -117,14 +117,16 @@ impl<D: Dim> Rates<D> {
 
 /// Updated-Lagrangian SPH solver for one body. See the crate documentation.
 pub struct UlSolver<D: Dim> {
-    constants: ElasticConstants,
+    /// The materials (`K`, `G`, `ρ0`, `c0` each); one for a solver built by [`UlSolver::new`].
+    materials: Vec<ElasticConstants>,
+    /// Index into `materials` per particle (current order).
+    material: Vec<u16>,
     shear: Shear,
     variant: Variant,
     params: UlParams,
     kernel: WendlandC2<D>,
-    rho0: f64,
+    /// The largest sound speed of the materials: the acoustic time step's.
     c0: f64,
-    g: f64,
     /// Whether `τ` is integrated (OG, OAS; ENOG with `track_shear_stress`).
     tracks_stress: bool,
     // Per-particle state (current order).
@@ -229,13 +231,15 @@ impl<D: Dim> UlSolver<D> {
     /// particles of different bodies closer than the kernel support push each other apart with
     /// the contact pressure `p_c = κ c0² ρ_c`, `ρ_c,i = Σ_{j ∈ other} max(W_ij − W(dp), 0) m_j`,
     /// `a_i −= (2/m_i) Σ_j ½(p_c,i + p_c,j) V_i V_j W′_ij e_ij` (`κ` =
-    /// [`UlParams::contact_scale`]) — antisymmetric per pair, so momentum is conserved;
-    /// repulsive only (bodies separate freely). The contact force on each body is recorded
-    /// with the probes as the series `contact_force_<body>` with columns `x`, `y` (, `z`)
-    /// ([`Solver::series`]).
+    /// [`UlParams::contact_scale`], `c0` the sound speed of the particle's own material, as
+    /// SPHinXsys's contact stiffness per body) — antisymmetric per pair, so momentum is
+    /// conserved; repulsive only (bodies separate freely). The contact force on each body is
+    /// recorded with the probes as the series `contact_force_<body>` with columns `x`, `y`
+    /// (, `z`) ([`Solver::series`]).
     ///
     /// # Errors
-    /// `body_of` not one entry per particle.
+    /// `body_of` not one entry per particle; a body holding particles of two materials
+    /// ([`UlSolver::with_materials`]).
     pub fn with_contact(mut self, body_of: Vec<u32>) -> Result<Self, Error> {
         let n = self.len();
         if body_of.len() != n {
@@ -245,13 +249,39 @@ impl<D: Dim> UlSolver<D> {
                 &format!("one body id per particle ({n})"),
             ));
         }
-        let body = self
+        let body: Vec<u32> = self
             .original_index
             .iter()
             .map(|&o| body_of[o as usize])
             .collect();
+        let bodies = body.iter().map(|&b| b as usize + 1).max().unwrap_or(0);
+        // Each body has one material: its particles' pairs read one ρ0 c0 (eq 12).
+        let mut material_of_body: Vec<Option<u16>> = vec![None; bodies];
+        for (&b, &m) in body.iter().zip(&self.material) {
+            match material_of_body[b as usize] {
+                Some(other) if other != m => {
+                    return Err(Error::invalid(
+                        "body_of",
+                        b,
+                        &format!(
+                            "bodies of one material each (body {b} holds materials {other} and {m})"
+                        ),
+                    ))
+                }
+                _ => material_of_body[b as usize] = Some(m),
+            }
+        }
+        let materials: Vec<ElasticConstants> = material_of_body
+            .iter()
+            .map(|m| self.materials[m.unwrap_or(0) as usize])
+            .collect();
         let dp = self.kernel.h() / self.params.h_over_dp;
-        let contact = Contact::new(body, self.kernel.w(dp), self.params.contact_scale, self.c0);
+        let contact = Contact::new(
+            body,
+            self.kernel.w(dp),
+            self.params.contact_scale,
+            &materials,
+        );
         self.series = (0..contact.bodies)
             .map(|b| {
                 Series::new(&format!("contact_force_{b}"), &AXES[..D::D])
@@ -278,7 +308,13 @@ impl<D: Dim> UlSolver<D> {
     /// the sound speed.
     pub fn with_tools(mut self, tools: Vec<RigidTool<D>>) -> Result<Self, Error> {
         let names: Vec<&str> = self.constraints.named().map(|(_, n)| n).collect();
-        let mut set = ToolSet::new(tools, &names, self.c0)?;
+        // A tool must be slower than sound in the softest body it may touch.
+        let c_min = self
+            .materials
+            .iter()
+            .map(|c| c.sound_speed)
+            .fold(f64::INFINITY, f64::min);
+        let mut set = ToolSet::new(tools, &names, c_min)?;
         set.reset_series(self.time);
         self.tools = set;
         self.reset_budget();
@@ -393,7 +429,7 @@ impl<D: Dim> UlSolver<D> {
         if let Some(i) = self.densities.iter().position(|&r| r <= 0.0) {
             return Err(Error::Inverted {
                 particle: self.original_index[i] as usize,
-                jacobian: self.constants.density / self.densities[i],
+                jacobian: self.material_of(i).density / self.densities[i],
                 step: self.steps,
                 time: self.time,
             });
@@ -411,9 +447,26 @@ impl<D: Dim> UlSolver<D> {
         &self.params
     }
 
-    /// The elastic constants (`K`, `G`, `ρ0`, `c0 = √(K/ρ0)`, eq 5).
+    /// The elastic constants (`K`, `G`, `ρ0`, `c0 = √(K/ρ0)`, eq 5) of the first material (the
+    /// only one of a solver built by [`UlSolver::new`]).
     pub fn constants(&self) -> &ElasticConstants {
-        &self.constants
+        &self.materials[0]
+    }
+
+    /// The materials ([`UlSolver::with_materials`]).
+    pub fn materials(&self) -> &[ElasticConstants] {
+        &self.materials
+    }
+
+    /// The material index of each particle (current order).
+    pub fn material_ids(&self) -> &[u16] {
+        &self.material
+    }
+
+    /// The constants of particle `i`'s material (current order).
+    #[inline(always)]
+    fn material_of(&self, i: usize) -> &ElasticConstants {
+        &self.materials[self.material[i] as usize]
     }
 
     /// The kernel.
@@ -570,6 +623,16 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
         if max_dt.is_nan() || max_dt <= 0.0 {
             return Err(Error::invalid("max_dt", max_dt, "> 0"));
         }
+        if self.materials.len() > 1
+            && self.contact.is_none()
+            && self.material.iter().any(|&m| m != self.material[0])
+        {
+            return Err(Error::invalid(
+                "materials",
+                self.materials.len(),
+                "one material per body: particles of several materials need with_contact",
+            ));
+        }
         let dt = self.stable_dt().min(max_dt);
         self.rebuild()?;
         let start = self.time;
@@ -684,6 +747,8 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
             "disorder",
             "fragment",
             "original_index",
+            "body",
+            "material",
         ];
         if self.plasticity.is_some() {
             names.push("plastic_strain");
@@ -696,7 +761,9 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
 
     /// Output fields in the current particle order (see [`UlSolver::original_index`]).
     /// `fragment` labels the connected pieces of the own-body neighbour graph of the last
-    /// rebuild (`0..k`; a body that breaks apart — numerical fracture — has several).
+    /// rebuild (`0..k`; a body that breaks apart — numerical fracture — has several); `body`
+    /// is the body id of [`UlSolver::with_contact`] (0 for one body), `material` the index into
+    /// [`UlSolver::materials`].
     fn field(&self, name: &str) -> Option<Field<D>> {
         let n = self.len();
         Some(match name {
@@ -710,9 +777,11 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
             ),
             "density" => Field::Scalar(self.densities.clone()),
             "pressure" => Field::Scalar(
-                self.densities
-                    .iter()
-                    .map(|&r| pressure(r, self.rho0, self.c0))
+                (0..n)
+                    .map(|i| {
+                        let c = self.material_of(i);
+                        pressure(self.densities[i], c.density, c.sound_speed)
+                    })
                     .collect(),
             ),
             "von_mises" => Field::Scalar(
@@ -740,6 +809,11 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
             }
             "plastic_strain" if self.plasticity.is_some() => Field::Scalar(self.plastic_strain()),
             "temperature" if self.thermal() => Field::Scalar(self.temperatures()),
+            "body" => Field::Scalar(match &self.contact {
+                Some(c) => c.body.iter().map(|&b| f64::from(b)).collect(),
+                None => vec![0.0; n],
+            }),
+            "material" => Field::Scalar(self.material.iter().map(|&m| f64::from(m)).collect()),
             _ => return None,
         })
     }

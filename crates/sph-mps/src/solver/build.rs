@@ -21,21 +21,74 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
     /// strain energy, or a particle with fewer than `D + 1` neighbours
     /// ([`Error::TooFewNeighbours`]: its `A_i` is singular or nearly so).
     pub fn new(body: impl Into<Body<D>>, material: M, params: MpsParams) -> Result<Self, Error> {
+        Self::with_materials(body, vec![material], Vec::new(), params)
+    }
+
+    /// [`MpsSolver::new`] with a material per particle: `material_of[i]` indexes `materials`
+    /// for particle `i` (empty: every particle the first). The energy is
+    /// `U = Σ_i V_i ψ_i(F_i)` with each particle's own strain energy `ψ_i`, so the forces of
+    /// eq 7 stay `−∂U/∂x` and the model Hamiltonian whether the materials meet through contact
+    /// (separate bodies) or are bonded (one body of several materials). Masses are `ρ0 V` of
+    /// each particle's material, the stabilisation takes each particle's shear modulus, and
+    /// the step `C l0 / c` the largest sound speed. `M` is one type for every particle: a
+    /// scene's [`sph_materials::MaterialModel`] (an enum of the laws) lets bodies differ in law
+    /// as well as in constants, without dynamic dispatch in the force loop.
+    ///
+    /// # Errors
+    /// As [`MpsSolver::new`]; no material or more than 65 536; `material_of` neither empty nor
+    /// one index below `materials.len()` per particle.
+    pub fn with_materials(
+        body: impl Into<Body<D>>,
+        materials: Vec<M>,
+        material_of: Vec<u32>,
+        params: MpsParams,
+    ) -> Result<Self, Error> {
         let body: Body<D> = body.into();
         body.validate("mps body")?;
         body.reject_densities("mps")?;
         params.validate()?;
         let n = body.len();
         let velocities = body.velocities_or_rest();
-        if material.strain_energy_density(D::identity()).is_none() {
+        if materials.is_empty() || materials.len() > usize::from(u16::MAX) + 1 {
             return Err(Error::invalid(
-                "material",
-                material.name(),
-                "a hyperelastic law with a strain energy (the Hamiltonian needs ψ)",
+                "materials",
+                materials.len(),
+                "1 to 65536 materials",
             ));
         }
-        let constants = *material.constants();
-        let (density, sound_speed) = (constants.density, constants.sound_speed);
+        if !(material_of.is_empty() || material_of.len() == n) {
+            return Err(Error::invalid(
+                "material_of",
+                material_of.len(),
+                &format!("empty or one material index per particle ({n})"),
+            ));
+        }
+        if let Some(&m) = material_of.iter().find(|&&m| m as usize >= materials.len()) {
+            return Err(Error::invalid(
+                "material_of",
+                m,
+                &format!("a material index below {}", materials.len()),
+            ));
+        }
+        for material in &materials {
+            if material.strain_energy_density(D::identity()).is_none() {
+                return Err(Error::invalid(
+                    "material",
+                    material.name(),
+                    "a hyperelastic law with a strain energy (the Hamiltonian needs ψ)",
+                ));
+            }
+        }
+        let material: Vec<u16> = if material_of.is_empty() {
+            vec![0; n]
+        } else {
+            material_of.iter().map(|&m| m as u16).collect()
+        };
+        let constants_of = |i: usize| *materials[material[i] as usize].constants();
+        let sound_speed = materials
+            .iter()
+            .map(|m| m.constants().sound_speed)
+            .fold(0.0, f64::max);
         let re = params.re_over_l0 * body.dp;
         let reference = body.positions;
         let list = CellGrid::<D>::build(&reference, re)?.neighbor_list(&reference, re)?;
@@ -93,9 +146,10 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         let g_rev = wls::reverse_pairs(&list).iter().map(|&k| g[k]).collect();
         let volumes = body.volumes;
         let stabilisation = if params.stabilisation > 0.0 {
+            let mu: Vec<f64> = (0..n).map(|i| constants_of(i).shear_modulus).collect();
             Some(Stabilisation::new(
                 params.stabilisation,
-                constants.shear_modulus,
+                &mu,
                 &list,
                 &pairs,
                 &volumes,
@@ -103,13 +157,17 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         } else {
             None
         };
-        let masses: Vec<f64> = volumes.iter().map(|v| v * density).collect();
+        let masses: Vec<f64> = volumes
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v * constants_of(i).density)
+            .collect();
         let mut solver = Self {
+            materials,
             material,
             params,
             dp: body.dp,
             re,
-            density,
             sound_speed,
             positions: reference.clone(),
             reference,

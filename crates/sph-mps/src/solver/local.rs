@@ -64,6 +64,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         self.reference = d.pick(&self.reference);
         self.volumes = d.pick(&self.volumes);
         self.masses = d.pick(&self.masses);
+        self.material = d.pick(&self.material);
         self.inv_masses = d.pick(&self.inv_masses);
         self.a_inv = d.pick(&self.a_inv);
         self.positions = d.pick(&self.positions);

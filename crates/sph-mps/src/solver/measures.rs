@@ -29,7 +29,12 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             .deformation
             .iter()
             .zip(&self.volumes)
-            .map(|(&f, &v)| v * self.material.strain_energy_density(f).unwrap_or(f64::NAN))
+            .zip(&self.material)
+            .map(|((&f, &v), &k)| {
+                v * self.materials[k as usize]
+                    .strain_energy_density(f)
+                    .unwrap_or(f64::NAN)
+            })
             .sum::<f64>()
             + self.contact_energy;
         Energy {
@@ -52,7 +57,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
             .map(|i| {
                 self.volumes[i]
                     * self
-                        .material
+                        .material_of(i)
                         .strain_energy_density(self.deformation[i])
                         .unwrap_or(f64::NAN)
             })

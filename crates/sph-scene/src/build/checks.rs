@@ -51,6 +51,25 @@ impl Scene {
                 .map(|b| (b.span(), Some(b.get_ref().name.as_str())))
                 .collect(),
         )?;
+        if let MaterialsSpec::List(list) = spec.material.get_ref() {
+            if let Some((k, m)) = list
+                .iter()
+                .enumerate()
+                .find(|(_, m)| m.get_ref().name.is_none())
+            {
+                return Err(self.error(
+                    m.span(),
+                    &format!("material[{k}].name"),
+                    "a [[material]] needs a name (a [[body]] chooses it by material = \"NAME\")",
+                ));
+            }
+            named(
+                "material",
+                list.iter()
+                    .map(|m| (m.span(), m.get_ref().name.as_deref()))
+                    .collect(),
+            )?;
+        }
         named(
             "constraint",
             spec.constraints

@@ -3,6 +3,16 @@
 
 use super::*;
 
+/// The scene's materials ([`Scene::materials`]).
+pub(super) struct Materials {
+    /// Constants and law of each material, in the file's order.
+    pub built: Vec<(ElasticConstants, MaterialModel)>,
+    /// Each body's material (an index into `built`).
+    pub of_body: Vec<usize>,
+    /// Each material's table (its span and keys), in the order of `built`.
+    pub specs: Vec<(Range<usize>, MaterialSpec)>,
+}
+
 /// One body's particles, uniform initial velocity and, for the fitted layout, the fit's report.
 pub(super) type BodyParts<D> = (ParticleSet<D>, <D as Dim>::Vector, Option<FitReport>);
 
@@ -10,17 +20,19 @@ pub(super) type BodyParts<D> = (ParticleSet<D>, <D as Dim>::Vector, Option<FitRe
 pub(super) const MAX_PARTICLE_LINE: usize = 4096;
 
 impl Scene {
-    /// The material's constants and law, with the law's own options (`c2_fraction`, or `c1`,
-    /// `c2`, `lambda`, for `mooney-rivlin`; `deviator` for `kirchhoff-vol-dev`).
+    /// A material's constants and law, with the law's own options (`c2_fraction`, or `c1`,
+    /// `c2`, `lambda`, for `mooney-rivlin`; `deviator` for `kirchhoff-vol-dev`); `span` is its
+    /// table's, `prefix` the path errors name (`material`, `material.NAME`).
     pub(super) fn material(
         &self,
-        m: &Spanned<MaterialSpec>,
+        span: Range<usize>,
+        s: &MaterialSpec,
+        prefix: &str,
     ) -> Result<(ElasticConstants, MaterialModel), SceneError> {
         let at = |key| At {
-            span: m.span(),
+            span: span.clone(),
             key,
         };
-        let s = m.get_ref();
         // A plastic law's elastic part is the constants (the UL methods that carry it use only
         // them); the methods that cannot carry it refuse it (`Scene::run_in`).
         let kind: MaterialKind = if super::plasticity::is_plastic(&s.law) {
@@ -29,7 +41,7 @@ impl Scene {
             s.law.parse().map_err(|e: sph_core::Error| {
                 self.error_in(
                     &at("law"),
-                    "material.law",
+                    &format!("{prefix}.law"),
                     format!(
                         "{e}, or the plastic {}",
                         sph_materials::PLASTIC_LAW_NAMES.join(", ")
@@ -58,7 +70,7 @@ impl Scene {
                 };
                 return Err(self.error_in(
                     &at(key),
-                    &format!("material.{key}"),
+                    &format!("{prefix}.{key}"),
                     format!("a key of law = \"{law}\", not of law = \"{}\"", s.law),
                 ));
             }
@@ -69,10 +81,10 @@ impl Scene {
                 _ => "law".into(),
             };
             let at = At {
-                span: m.span(),
+                span: span.clone(),
                 key: &key,
             };
-            self.error_in(&at, &format!("material.{key}"), e.to_string())
+            self.error_in(&at, &format!("{prefix}.{key}"), e.to_string())
         };
         if let (Some(c1), Some(c2), Some(lambda)) = (s.c1, s.c2, s.lambda) {
             let elastic = [
@@ -85,7 +97,7 @@ impl Scene {
             if let Some((key, _)) = elastic.iter().find(|k| k.1) {
                 return Err(self.error_in(
                     &at(key),
-                    &format!("material.{key}"),
+                    &format!("{prefix}.{key}"),
                     "give c1, c2 and lambda, or the elastic constants (with c2_fraction), not both",
                 ));
             }
@@ -98,7 +110,7 @@ impl Scene {
         if s.c1.is_some() || s.c2.is_some() || s.lambda.is_some() {
             return Err(self.error_in(
                 &at("c1"),
-                "material",
+                prefix,
                 "mooney-rivlin by its own constants needs all of c1, c2 and lambda",
             ));
         }
@@ -108,7 +120,7 @@ impl Scene {
             _ => {
                 return Err(self.error_in(
                     &at("youngs_modulus"),
-                    "material",
+                    prefix,
                     "give youngs_modulus and nu, or bulk_modulus and shear_modulus",
                 ))
             }
@@ -116,7 +128,7 @@ impl Scene {
         .map_err(|e| {
             let key = match &e {
                 sph_core::Error::InvalidParameter { field, .. } => field.clone(),
-                _ => "material".into(),
+                _ => prefix.into(),
             };
             let key = if key == "poisson_ratio" {
                 "nu".to_string()
@@ -124,10 +136,10 @@ impl Scene {
                 key
             };
             let at = At {
-                span: m.span(),
+                span: span.clone(),
                 key: &key,
             };
-            self.error_in(&at, &format!("material.{key}"), e.to_string())
+            self.error_in(&at, &format!("{prefix}.{key}"), e.to_string())
         })?;
         let kind = match kind {
             MaterialKind::MooneyRivlin { c2_fraction } => MaterialKind::MooneyRivlin {
@@ -141,7 +153,7 @@ impl Scene {
                     Some(other) => {
                         return Err(self.error_in(
                             &at("deviator"),
-                            "material.deviator",
+                            &format!("{prefix}.deviator"),
                             format!("`{other}`: allowed values are spatial, embedded-3d"),
                         ))
                     }
@@ -151,6 +163,102 @@ impl Scene {
         };
         let law = kind.build(constants).map_err(law_error)?;
         Ok((constants, law))
+    }
+
+    /// The scene's materials (constants and law, in the file's order) and each body's (an
+    /// index into them). `[material]` is every body's; a body may name it if it has a `name`.
+    /// With `[[material]]`, every entry needs a distinct name, a body names its material (or
+    /// takes the only one), and every material must be some body's.
+    pub(super) fn materials(&self) -> Result<Materials, SceneError> {
+        let spec = &self.spec;
+        let span = spec.material.span();
+        // (span, spec, path prefix, name) of every material.
+        let entries: Vec<(Range<usize>, &MaterialSpec, String, Option<&str>)> =
+            match spec.material.get_ref() {
+                MaterialsSpec::One(m) => {
+                    vec![(span.clone(), m, "material".into(), m.name.as_deref())]
+                }
+                MaterialsSpec::List(list) => {
+                    let mut out = Vec::with_capacity(list.len());
+                    for m in list {
+                        // Present and unique: checked at parse time (check_names).
+                        let name = m.get_ref().name.as_deref().unwrap_or_default();
+                        out.push((
+                            m.span(),
+                            m.get_ref(),
+                            format!("material.{name}"),
+                            Some(name),
+                        ));
+                    }
+                    out
+                }
+            };
+        let names = || {
+            let named: Vec<String> = entries
+                .iter()
+                .filter_map(|e| e.3.map(|n| format!("`{n}`")))
+                .collect();
+            if named.is_empty() {
+                "none has a name".to_string()
+            } else {
+                format!("the materials: {}", named.join(", "))
+            }
+        };
+        let mut of_body = Vec::with_capacity(spec.bodies.len());
+        for (k, b) in spec.bodies.iter().enumerate() {
+            let at = At {
+                span: b.span(),
+                key: "material",
+            };
+            let index = match b.get_ref().material.as_deref() {
+                Some(name) => entries
+                    .iter()
+                    .position(|e| e.3 == Some(name))
+                    .ok_or_else(|| {
+                        self.error_in(
+                            &at,
+                            &format!("body[{k}].material"),
+                            format!("`{name}`: no material of that name ({})", names()),
+                        )
+                    })?,
+                None if entries.len() == 1 => 0,
+                None => {
+                    return Err(self.error(
+                        b.span(),
+                        &format!("body[{k}].material"),
+                        format!("required: the scene has several [[material]] ({})", names()),
+                    ))
+                }
+            };
+            of_body.push(index);
+        }
+        if let Some((k, e)) = entries
+            .iter()
+            .enumerate()
+            .find(|(k, _)| !of_body.contains(k))
+        {
+            return Err(self.error(
+                e.0.clone(),
+                &e.2,
+                format!(
+                    "no body uses material[{k}] (give a [[body]] material = \"{}\", or remove it)",
+                    e.3.unwrap_or_default()
+                ),
+            ));
+        }
+        let mut built = Vec::with_capacity(entries.len());
+        for (span, m, prefix, _) in &entries {
+            built.push(self.material(span.clone(), m, prefix)?);
+        }
+        let specs = entries
+            .iter()
+            .map(|(span, m, _, _)| (span.clone(), (*m).clone()))
+            .collect();
+        Ok(Materials {
+            built,
+            of_body,
+            specs,
+        })
     }
 
     /// One body's particles and uniform initial velocity, and the report of a fitted layout.

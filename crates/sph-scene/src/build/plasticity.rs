@@ -23,12 +23,12 @@ impl Scene {
     /// `material.<key>`).
     pub(super) fn plastic_law(
         &self,
-        m: &Spanned<MaterialSpec>,
+        span: std::ops::Range<usize>,
+        s: &MaterialSpec,
     ) -> Result<Option<PlasticLaw>, SceneError> {
-        let s = m.get_ref();
         let law = s.law.trim();
         let at = |key: &'static str| At {
-            span: m.span(),
+            span: span.clone(),
             key,
         };
         let j2_keys = [
@@ -145,7 +145,7 @@ impl Scene {
                 _ => "law".into(),
             };
             let at = At {
-                span: m.span(),
+                span: span.clone(),
                 key: &key,
             };
             self.error_in(&at, &format!("material.{key}"), e.to_string())

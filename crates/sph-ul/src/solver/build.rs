@@ -17,14 +17,94 @@ impl<D: Dim> UlSolver<D> {
         shear: Shear,
         params: UlParams,
     ) -> Result<Self, Error> {
+        Self::with_materials(body, vec![constants], Vec::new(), shear, params)
+    }
+
+    /// [`UlSolver::new`] with a material per particle: `material_of[i]` indexes `materials`
+    /// for input particle `i` (empty: every particle the first material). Each particle's mass
+    /// is its volume times its material's `ρ0`; pressure (eq 4), the Riemann dissipation
+    /// (eq 12), the shear modulus of the Jaumann rate and of ENOG's shear acceleration are each
+    /// particle's own; the acoustic step (eq 22) takes the largest sound speed. A pair term
+    /// reads particle `i`'s material, so particles of different materials must be different
+    /// bodies ([`UlSolver::with_contact`], which checks it): the first step refuses a solver
+    /// whose particles use several materials without it.
+    ///
+    /// # Errors
+    /// As [`UlSolver::new`]; no material, more than 65 536, `material_of` neither empty nor one
+    /// index below `materials.len()` per particle.
+    ///
+    /// # Examples
+    /// ```
+    /// use glam::DVec2;
+    /// use sph_core::{Body, D2};
+    /// use sph_materials::ElasticConstants;
+    /// use sph_ul::{Shear, UlParams, UlSolver};
+    /// // Two 10 × 5 blocks 2 dp apart: a soft one and a stiff one.
+    /// let dp = 0.01;
+    /// let mut positions = Vec::new();
+    /// for (b, x0) in [0.0, 0.12].into_iter().enumerate() {
+    ///     for i in 0..10 {
+    ///         for j in 0..5 {
+    ///             positions.push(DVec2::new(x0 + (i as f64 + 0.5) * dp, (j as f64 + 0.5) * dp));
+    ///         }
+    ///     }
+    /// }
+    /// let body_of: Vec<u32> = (0..100).map(|i| u32::from(i >= 50)).collect();
+    /// let body = Body::<D2>::new(positions, vec![dp * dp; 100], dp);
+    /// let soft = ElasticConstants::from_youngs(1e6, 0.3, 1000.0)?;
+    /// let stiff = ElasticConstants::from_youngs(1e9, 0.3, 7800.0)?;
+    /// let s = UlSolver::with_materials(
+    ///     body,
+    ///     vec![soft, stiff],
+    ///     body_of.clone(),
+    ///     Shear::non_nested(),
+    ///     UlParams::default(),
+    /// )?
+    /// .with_contact(body_of)?;
+    /// assert_eq!(s.materials().len(), 2);
+    /// # Ok::<(), sph_core::Error>(())
+    /// ```
+    pub fn with_materials(
+        body: impl Into<Body<D>>,
+        materials: Vec<ElasticConstants>,
+        material_of: Vec<u32>,
+        shear: Shear,
+        params: UlParams,
+    ) -> Result<Self, Error> {
         let body: Body<D> = body.into();
         body.validate("ul body")?;
         params.validate()?;
         shear.validate()?;
         let n = body.len();
         check_per_particle("densities", &body.densities, n, true)?;
+        if materials.is_empty() || materials.len() > usize::from(u16::MAX) + 1 {
+            return Err(Error::invalid(
+                "materials",
+                materials.len(),
+                "1 to 65536 materials",
+            ));
+        }
+        if !(material_of.is_empty() || material_of.len() == n) {
+            return Err(Error::invalid(
+                "material_of",
+                material_of.len(),
+                &format!("empty or one material index per particle ({n})"),
+            ));
+        }
+        if let Some(&m) = material_of.iter().find(|&&m| m as usize >= materials.len()) {
+            return Err(Error::invalid(
+                "material_of",
+                m,
+                &format!("a material index below {}", materials.len()),
+            ));
+        }
+        let material: Vec<u16> = if material_of.is_empty() {
+            vec![0; n]
+        } else {
+            material_of.iter().map(|&m| m as u16).collect()
+        };
         let velocities = body.velocities_or_rest();
-        let rho0 = constants.density;
+        let rho0 = |i: usize| materials[material[i] as usize].density;
         let kernel = WendlandC2::<D>::from_spacing(body.dp, params.h_over_dp)?;
         let variant = match shear {
             Shear::Original => Variant::Original,
@@ -40,27 +120,40 @@ impl<D: Dim> UlSolver<D> {
                 },
                 form,
             },
+            // The penalty's stiffness ξ G is one number: one material for now.
+            Shear::Generalized { .. } if materials.len() > 1 => {
+                return Err(Error::invalid(
+                    "materials",
+                    materials.len(),
+                    "one material with ul-gnog (its penalty stiffness ξ G is one number)",
+                ))
+            }
             Shear::Generalized { xi } => Variant::Generalized {
-                xi_g: xi.unwrap_or(crate::generalized::DEFAULT_XI) * constants.shear_modulus,
+                xi_g: xi.unwrap_or(crate::generalized::DEFAULT_XI) * materials[0].shear_modulus,
             },
         };
         let tracks_stress =
             !matches!(variant, Variant::NonNested { .. }) || params.track_shear_stress;
         let densities = if body.densities.is_empty() {
-            vec![rho0; n]
+            (0..n).map(rho0).collect()
         } else {
             body.densities
         };
-        let masses: Vec<f64> = body.volumes.iter().map(|v| v * rho0).collect();
+        let masses: Vec<f64> = body
+            .volumes
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v * rho0(i))
+            .collect();
+        let c0 = materials.iter().map(|c| c.sound_speed).fold(0.0, f64::max);
         let mut solver = Self {
-            constants,
+            materials,
+            material,
             shear,
             variant,
             params,
             kernel,
-            rho0,
-            c0: constants.sound_speed,
-            g: constants.shear_modulus,
+            c0,
             tracks_stress,
             initial_positions: body.positions.clone(),
             positions: body.positions,

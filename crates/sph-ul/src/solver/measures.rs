@@ -45,14 +45,21 @@ impl<D: Dim> UlSolver<D> {
             .densities
             .iter()
             .zip(&self.masses)
-            .map(|(&rho, &m)| pressure_energy(m, rho, self.rho0, self.c0))
+            .zip(&self.material)
+            .map(|((&rho, &m), &k)| {
+                let c = &self.materials[k as usize];
+                pressure_energy(m, rho, c.density, c.sound_speed)
+            })
             .sum();
         let shear = if self.tracks_stress {
             self.stress
                 .iter()
                 .zip(&self.masses)
                 .zip(&self.densities)
-                .map(|((&t, &m), &rho)| shear_energy::<D>(t, m / rho, self.g))
+                .zip(&self.material)
+                .map(|(((&t, &m), &rho), &k)| {
+                    shear_energy::<D>(t, m / rho, self.materials[k as usize].shear_modulus)
+                })
                 .sum()
         } else if self.params.energy_budget {
             // ENOG without its output-only τ: the energy stored by the shear acceleration is
@@ -79,7 +86,7 @@ impl<D: Dim> UlSolver<D> {
     /// [`UlParams::energy_budget`] (otherwise the accumulated work stays zero).
     pub(super) fn energy_budget_now(&self) -> EnergyBudget {
         let contact = self.contact.as_ref().map_or(0.0, |c| {
-            c.energy(&self.positions, &self.masses, &self.kernel, self.rho0)
+            c.energy(&self.positions, &self.masses, &self.kernel)
         });
         let mut budget = ul_budget(
             &self.energy(),
@@ -157,7 +164,8 @@ impl<D: Dim> UlSolver<D> {
 
     /// Cauchy stress `σ = τ − p I` (3×3; the out-of-plane entry is `−p` in 2D).
     pub(super) fn cauchy_3d(&self, i: usize) -> glam::DMat3 {
-        let p = pressure(self.densities[i], self.rho0, self.c0);
+        let c = self.material_of(i);
+        let p = pressure(self.densities[i], c.density, c.sound_speed);
         let tau = self.stress.get(i).copied().unwrap_or(D::zero_matrix());
         D::to_mat3(tau - D::identity() * p, -p)
     }

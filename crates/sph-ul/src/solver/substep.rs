@@ -135,6 +135,7 @@ impl<D: Dim> UlSolver<D> {
         p(perm, &mut self.rates);
         p(perm, &mut self.initial_positions);
         p(perm, &mut self.original_index);
+        p(perm, &mut self.material);
         if let Some(c) = &mut self.contact {
             c.permute(perm);
         }
@@ -159,14 +160,15 @@ impl<D: Dim> UlSolver<D> {
 
     /// Eq. (4) for every particle.
     fn update_pressures(&mut self) {
-        let (rho0, c0) = (self.rho0, self.c0);
+        let (mats, mat) = (&self.materials, &self.material);
         let (rho, m) = (&self.densities, &self.masses);
         gather2(
             &mut self.pressures,
             &mut self.current_volumes,
             #[inline(always)]
             |i, p, v| {
-                *p = pressure(rho[i], rho0, c0);
+                let c = &mats[mat[i] as usize];
+                *p = pressure(rho[i], c.density, c.sound_speed);
                 *v = m[i] / rho[i];
             },
         );
@@ -247,8 +249,7 @@ impl<D: Dim> UlSolver<D> {
             &self.free,
         );
         let (x_v_j, vol_j, p_j) = (list.values(x_v), list.values(vol), list.values(p));
-        let (g, rho0, c0, scheme) = (self.g, self.rho0, self.c0, self.params.riemann);
-        let rho0_c0 = rho0 * c0;
+        let (mats, mat, scheme) = (&self.materials, &self.material, self.params.riemann);
         let columns = (
             &mut self.rates[..],
             &mut self.positions[..],
@@ -273,6 +274,10 @@ impl<D: Dim> UlSolver<D> {
                 for (k, i) in rows.enumerate() {
                     let out = &mut r[k];
                     let (v_i, p_i, rho_i) = (x_v[i], p[i], rho[k]);
+                    // Pairs join particles of one body, so of one material: particle i's.
+                    let c = &mats[mat[i] as usize];
+                    let (g, rho0, c0) = (c.shear_modulus, c.density, c.sound_speed);
+                    let rho0_c0 = rho0 * c0;
                     let (mut drho, mut jump) = (0.0, 0.0);
                     let mut l = D::zero_matrix();
                     let mut lap = D::zero();
@@ -517,7 +522,9 @@ impl<D: Dim> UlSolver<D> {
         row: &[PairKernel<D>],
     ) -> (D::Vector, [D::Vector; 2]) {
         let (vel, rho, p) = (&self.velocities, &self.densities, &self.pressures);
-        let (rho0, c0, scheme) = (self.rho0, self.c0, self.params.riemann);
+        // Pairs join particles of one body, so of one material: particle i's.
+        let c = self.material_of(i);
+        let (rho0, c0, scheme) = (c.density, c.sound_speed, self.params.riemann);
         let (v_i, p_i, inv_rho_i) = (vel[i], p[i], 1.0 / rho[i]);
         let mut acc = D::zero();
         let mut parts = [D::zero(); 2];
@@ -710,7 +717,7 @@ impl<D: Dim> UlSolver<D> {
     /// eq 4 (`p` and `V = m/ρ` of the new `ρ`), element-wise in one pass on the team (the
     /// drift of the step's second half is part of [`Self::compute_rates`]).
     fn drift_and_pressures(&mut self, h: f64) {
-        let (rho0, c0) = (self.rho0, self.c0);
+        let (mats, mat) = (&self.materials, &self.material);
         if self.params.energy_budget && self.params.riemann == RiemannScheme::Paper {
             // The volumetric-energy change the pressure jump makes over this drift
             // (Σ m p/ρ² ρ̇_jump h at the start of the drift).
@@ -719,7 +726,11 @@ impl<D: Dim> UlSolver<D> {
                 .iter()
                 .zip(&self.masses)
                 .zip(&self.rates)
-                .map(|((&rho, &m), r)| m * pressure(rho, rho0, c0) / (rho * rho) * r.density_jump)
+                .zip(mat)
+                .map(|(((&rho, &m), r), &k)| {
+                    let c = &mats[k as usize];
+                    m * pressure(rho, c.density, c.sound_speed) / (rho * rho) * r.density_jump
+                })
                 .sum::<f64>();
         }
         let (n, v, rates, m) = (self.len(), &self.velocities, &self.rates, &self.masses);
@@ -745,7 +756,8 @@ impl<D: Dim> UlSolver<D> {
                     if !tau.is_empty() {
                         tau[k] += rates[i].stress * h;
                     }
-                    p[k] = pressure(rho[k], rho0, c0);
+                    let c = &mats[mat[i] as usize];
+                    p[k] = pressure(rho[k], c.density, c.sound_speed);
                     vol[k] = m[i] / rho[k];
                     if let Some(plasticity) = plasticity {
                         return_shear_stress::<D>(plasticity, &mut tau[k], &mut hist[k], vol[k], h);
