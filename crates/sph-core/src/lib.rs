@@ -59,6 +59,7 @@ pub mod amplitude;
 pub mod body;
 pub mod budget;
 pub mod comm;
+pub mod contact;
 pub mod conventions;
 pub mod correction;
 pub mod decomposition;

@@ -42,6 +42,7 @@
 /// takes: `use sph_tl::glam::DVec2;` needs no glam dependency of your own.
 pub use glam;
 
+pub mod contact;
 pub mod damping;
 pub mod ganzenmuller;
 pub mod hourglass_free;
@@ -52,4 +53,4 @@ pub mod reference_pairs;
 pub mod solver;
 
 pub use reference_pairs::PairStorage;
-pub use solver::{distribute, Energy, Shear, TlParams, TlSolver};
+pub use solver::{distribute, Energy, Shear, TlParams, TlSolver, DEFAULT_CONTACT_SCALE};

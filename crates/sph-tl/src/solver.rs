@@ -26,10 +26,12 @@ use sph_core::{
 use sph_materials::{von_mises, Material};
 use std::sync::Arc;
 
+mod bodies;
 mod build;
 mod local;
 mod measures;
 mod scene;
+pub use bodies::DEFAULT_CONTACT_SCALE;
 use build::coincident_error;
 pub use local::distribute;
 
@@ -224,6 +226,10 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     max_stretch: f64,
     /// This rank's share of a distributed run (`None` on one process; see [`distribute`]).
     domain: Option<Arc<sph_core::distributed::Domain>>,
+    /// Contact between bodies and self-contact (`None`: one body, no self-contact).
+    contact: Option<crate::contact::TlContact<D>>,
+    /// The contact stiffness scale `κ` ([`TlSolver::with_contact_scale`]).
+    contact_scale: f64,
 }
 
 impl<D: Dim, M: Material<D>> TlSolver<D, M> {
@@ -507,8 +513,18 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             &self.velocities,
             half,
         );
-        // Forces at the half step; loads; constraints.
+        // Forces at the half step; contact; loads; constraints.
         self.compute_internal_accelerations();
+        if let Some(c) = &mut self.contact {
+            c.add_accelerations(
+                &self.positions,
+                &self.reference,
+                &self.masses,
+                &self.volumes,
+                &self.kernel,
+                &mut self.accelerations,
+            )?;
+        }
         if !self.loads.is_empty() {
             self.loads
                 .add_accelerations(self.time + half, &self.masses, &mut self.accelerations);
@@ -597,7 +613,12 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
     /// [`TlParams::stretch_limited_dt`]).
     fn stable_dt(&self) -> f64 {
         let h = self.kernel.h();
-        let acoustic = self.min_stretch * h / (self.sound_speed + self.max_speed);
+        // With contact, its wave speed `√κ c0` when the contact is stiffer than the body.
+        let c = match self.contact {
+            Some(_) => self.sound_speed * self.contact_scale.sqrt().max(1.0),
+            None => self.sound_speed,
+        };
+        let acoustic = self.min_stretch * h / (c + self.max_speed);
         let force = if self.max_acceleration > 0.0 {
             (h / self.max_acceleration).sqrt()
         } else {
@@ -633,8 +654,9 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         names
     }
 
-    /// The deformation fields, `von_mises`, `disorder`; `body` and `material` (0: a TL solver
-    /// runs one body of one material, as the UL and MPS fields of those names).
+    /// The deformation fields, `von_mises`, `disorder`; `body` (each particle's body,
+    /// [`TlSolver::with_bodies`]) and `material` (0: a TL solver runs one material), as the UL
+    /// and MPS fields of those names.
     fn field(&self, name: &str) -> Option<Field<D>> {
         match name {
             "von_mises" => Some(Field::Scalar(
@@ -644,7 +666,10 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
                     .collect(),
             )),
             "disorder" => Some(Field::Scalar(self.disorder())),
-            "body" | "material" => Some(Field::Scalar(vec![0.0; self.positions.len()])),
+            "body" => Some(Field::Scalar(
+                self.bodies().iter().map(|&b| f64::from(b)).collect(),
+            )),
+            "material" => Some(Field::Scalar(vec![0.0; self.positions.len()])),
             _ => deformation_field::<D>(
                 name,
                 &self.positions,
@@ -722,7 +747,7 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
 
     fn energies(&self) -> Option<(f64, f64)> {
         let e = self.energy();
-        Some((e.kinetic, e.strain))
+        Some((e.kinetic, e.strain + self.contact_energy()))
     }
 
     fn momentum(&self) -> Option<glam::DVec3> {

@@ -2,7 +2,7 @@
 //! neighbour data for a distributed run, [`TlSolver::for_ranks`]), and the reference data
 //! (neighbour rows, pair data, correction matrices) of its particles.
 
-use super::{Shear, TlParams, TlSolver};
+use super::{Shear, TlParams, TlSolver, DEFAULT_CONTACT_SCALE};
 use crate::damping::damping_coefficient;
 use crate::reference_pairs::{PairScalar, ReferencePairs};
 use sph_core::correction::correction_matrices_counted;
@@ -168,6 +168,8 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             min_stretch: 1.0,
             max_stretch: 1.0,
             domain: None,
+            contact: None,
+            contact_scale: DEFAULT_CONTACT_SCALE,
         })
     }
 

@@ -82,6 +82,9 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                 &format!("1 for a TL run with {what} (not distributed yet)"),
             ))
         };
+        if self.contact.is_some() {
+            return refuse("several bodies or self-contact");
+        }
         if !self.tools.is_empty() {
             return refuse("rigid tools");
         }
