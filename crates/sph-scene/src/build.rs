@@ -479,6 +479,7 @@ impl Scene {
         };
         let keys = Keys::new(numerics_table);
         let multi = ranges.len() > 1;
+        let self_contacts = self.contacts(&ranges, method)?;
         let schedule = self.schedule(end_time)?;
         let mut meta = Map::new();
         meta.insert("case".into(), json!(self.name));
@@ -566,11 +567,11 @@ impl Scene {
         };
         match family {
             Family::Tl => {
-                if multi {
+                if several_materials {
                     return Err(self.error(
                         spec.bodies[1].span(),
                         "body[1]",
-                        "a TL method runs one body; make rigid parts [[tool]]s",
+                        "a TL method runs its bodies with one material; give every body the same material (or make rigid parts [[tool]]s)",
                     ));
                 }
                 let shear = match method {
@@ -602,6 +603,7 @@ impl Scene {
                     pair_storage,
                     ..d
                 };
+                let keys_contact_scale = keys.f64("contact_scale", sph_tl::DEFAULT_CONTACT_SCALE);
                 let known = numerics_keys(method).expect("a method");
                 keys.finish(method, &known)
                     .map_err(|m| self.error_in(&nat, "numerics", m))?;
@@ -614,6 +616,22 @@ impl Scene {
                     sph_tl::TlSolver::new(body, law, shear, params)
                 };
                 let mut s = built.map_err(|e| self.solver_error(e, &numerics_span, &known))?;
+                let contact_scale = keys_contact_scale;
+                if multi {
+                    s = s
+                        .with_bodies(body_of.clone())
+                        .map_err(|e| self.core(spec.bodies[1].span(), "body", e))?;
+                }
+                for (b, span) in &self_contacts {
+                    s = s
+                        .with_self_contact(*b)
+                        .map_err(|e| self.core(span.clone(), "contact", e))?;
+                }
+                if multi || !self_contacts.is_empty() {
+                    s = s.with_contact_scale(contact_scale).map_err(|e| {
+                        self.core(numerics_span.clone(), "numerics.contact_scale", e)
+                    })?;
+                }
                 for sp in pressures {
                     s = s
                         .with_surface_pressure(sp)
@@ -838,6 +856,67 @@ impl Scene {
         }
     }
 
+    /// The `[[contact]]` tables: the self-contacts (body index and span) they ask for. Two
+    /// names are the body–body contact every multi-body run has anyway; one name is a
+    /// self-contact (TL methods); friction is not built yet.
+    fn contacts(
+        &self,
+        ranges: &[(String, Range<usize>)],
+        method: &str,
+    ) -> Result<Vec<(u32, Range<usize>)>, SceneError> {
+        let mut out = Vec::new();
+        for (k, c) in self.spec.contacts.iter().enumerate() {
+            let (span, spec) = (c.span(), c.get_ref());
+            let at = |key| format!("contact[{k}].{key}");
+            if spec.friction_static.is_some() || spec.friction_kinetic.is_some() {
+                let key = if spec.friction_static.is_some() {
+                    "friction_static"
+                } else {
+                    "friction_kinetic"
+                };
+                return Err(self.error(
+                    span,
+                    &at(key),
+                    "friction between bodies is not built yet (frictionless contact only)",
+                ));
+            }
+            if spec.bodies.is_empty() || spec.bodies.len() > 2 {
+                return Err(self.error(
+                    span,
+                    &at("bodies"),
+                    format!(
+                        "{} names: give one body (its self-contact) or two (their contact)",
+                        spec.bodies.len()
+                    ),
+                ));
+            }
+            let mut ids = Vec::new();
+            for name in &spec.bodies {
+                let Some(b) = ranges.iter().position(|(n, _)| n == name) else {
+                    return Err(self.error(
+                        span,
+                        &at("bodies"),
+                        format!("`{name}`: no body of that name"),
+                    ));
+                };
+                ids.push(b as u32);
+            }
+            if ids.len() == 1 || ids[0] == ids[1] {
+                if family_of(method) != Some(Family::Tl) {
+                    return Err(self.error(
+                        span,
+                        &at("bodies"),
+                        format!(
+                            "self-contact (one body) is built for the TL methods, not {method}"
+                        ),
+                    ));
+                }
+                out.push((ids[0], span));
+            }
+        }
+        Ok(out)
+    }
+
     fn core(&self, span: Range<usize>, key: &str, e: sph_core::Error) -> SceneError {
         self.error(span, key, e.to_string())
     }
@@ -866,7 +945,14 @@ enum Family {
 /// for it (docs/user-guide.md's reference lists them with their defaults).
 pub fn numerics_keys(method: &str) -> Option<Vec<&'static str>> {
     let mut keys = match family_of(method)? {
-        Family::Tl => vec!["h_over_dp", "cfl", "damping", "dt_stretch", "pair_data"],
+        Family::Tl => vec![
+            "h_over_dp",
+            "cfl",
+            "damping",
+            "dt_stretch",
+            "pair_data",
+            "contact_scale",
+        ],
         Family::Ul => vec![
             "h_over_dp",
             "cfl_acoustic",

@@ -67,8 +67,9 @@
 //! constraints, tools and probes, which name HDF5 groups) are names, not paths: 1 to 128 bytes
 //! without `/`, `\`, control characters, and not `.` or `..`; each unique in its kind.
 //!
-//! Methods: a TL method runs one body (rigid parts are tools); UL and MPS run any number of
-//! bodies, which meet through the method's body–body contact. A key a method cannot honour is
+//! Methods: every family runs any number of bodies, which meet through the method's body–body
+//! contact (a TL method gives all its bodies one material; rigid parts are tools);
+//! `[[contact]] bodies = ["strip"]` turns on a TL body's self-contact. A key a method cannot honour is
 //! an error. Errors name the file, the line and the key, or the override that gave the value.
 #![deny(missing_docs)]
 

@@ -96,7 +96,7 @@ pub fn keys() -> Vec<KeyDoc> {
         k("numerics.refresh_kernel_data", "boolean", &ul.refresh_kernel_data.to_string(), "UL", "recompute the pair kernel data in every acoustic sub-step"),
         k("numerics.allow_fracture", "boolean", &ul.allow_isolated.to_string(), "UL", "let particles that lose every neighbour fly on instead of stopping the run"),
         k("numerics.energy_budget", "boolean", &ul.energy_budget.to_string(), "UL", "keep the energy budget (its residual in the summary)"),
-        k("numerics.contact_scale", "number", &num(ul.contact_scale), "UL", "scale κ of the body–body contact pressure p = κ c0² ρ"),
+        k("numerics.contact_scale", "number", &format!("{} (TL), {} (UL)", num(sph_tl::DEFAULT_CONTACT_SCALE), num(ul.contact_scale)), "TL, UL", "scale κ of the body–body (and TL self-) contact pressure p = κ c0² ρ_c; TL's time step follows with √κ c0"),
         k("numerics.epsilon", "number", &num(sph_ul::artificial_stress::DEFAULT_EPSILON), "ul-oas", "artificial stress strength ε"),
         k("numerics.n", "integer", &sph_ul::artificial_stress::DEFAULT_EXPONENT.to_string(), "ul-oas", "artificial stress exponent n"),
         k("numerics.xi", "number", &num(sph_ul::generalized::DEFAULT_XI), "ul-gnog", "penalty factor ξ of the generalized non-hourglass formulation (arXiv 2409.11474), > 0"),
@@ -119,7 +119,7 @@ pub fn keys() -> Vec<KeyDoc> {
         k("body[].relax_steps", "integer", "200", "all", "fitted layout: relaxation steps (0: the lattice fill as it is)"),
         k("body[].particles", "string", "— (or shape)", "all", "a CSV particle file, `x,y[,z],volume` per line (`#` comments), relative to the scene file"),
         k("body[].velocity", VEC, "at rest", "all", "uniform initial velocity (m/s)"),
-        k("body[].material", "string", "the [material], or the only [[material]]", "all", "the name of the body's material; several materials in one run: UL and MPS (a TL method runs one body)"),
+        k("body[].material", "string", "the [material], or the only [[material]]", "all", "the name of the body's material; several materials in one run: UL and MPS (a TL method runs several bodies with one material)"),
         // Constraints.
         k("constraint[].type", "string", "required", "all", "`fixed` (held), `velocity` (moved at `velocity`), `components` (only the `components` marked true are prescribed: a roller grip)"),
         k("constraint[].region", "a shape", "required", "all", "the particles inside it"),
@@ -160,6 +160,9 @@ pub fn keys() -> Vec<KeyDoc> {
         k("tool[].friction_static", "number", "`friction_kinetic`, else 0", "all", "static Coulomb coefficient μ_s ≥ 0 against the bodies: a touching particle sticks while the impulse that stops its slip is within μ_s times the normal impulse"),
         k("tool[].friction_kinetic", "number", "`friction_static`, else 0", "all", "kinetic Coulomb coefficient 0 ≤ μ_k ≤ μ_s: a sliding particle is slowed by μ_k times the normal impulse; the series gains `friction_x`, `friction_y` (, `friction_z`) and `sticking`, the summary `tool_contact_work`, `friction_work`, `friction_dissipated`"),
         // Relaxation.
+        k("contact[].bodies", "[string]", "required", "all", "two body names: their contact (on anyway between deformable bodies); one name: that body's self-contact (TL methods: particles farther apart than the kernel support in the reference touch when closer than dp)"),
+        k("contact[].friction_static", "number", "—", "none", "not built yet (refused)"),
+        k("contact[].friction_kinetic", "number", "—", "none", "not built yet (refused)"),
         k("relaxation.beta", "number", "1", "TL", "β of the pairwise damping η = (β/4)√(ρ0 E) L"),
         k("relaxation.length", "number", "required", "TL", "L, the body's size along the load (m)"),
         // Shapes.

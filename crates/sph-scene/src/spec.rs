@@ -39,6 +39,10 @@ pub struct SceneSpec {
     /// Rigid tools in kinematic contact, frictionless or with Coulomb friction (every method).
     #[serde(default, rename = "tool")]
     pub tools: Vec<Spanned<ToolSpec>>,
+    /// Contact pairs of bodies (`[[contact]]`): one name is that body's self-contact (TL
+    /// methods); deformable bodies touch each other by default.
+    #[serde(default, rename = "contact")]
+    pub contacts: Vec<Spanned<ContactSpec>>,
     /// Quasi-static relaxation (TL methods).
     pub relaxation: Option<Spanned<RelaxationSpec>>,
     /// Named values that `${…}` in the other values uses (resolved before the rest is read).
@@ -510,6 +514,19 @@ pub enum ToolShapeSpec {
         /// Outward normal.
         normal: Vec<f64>,
     },
+}
+
+/// A contact between bodies: two names (their contact, on by default between deformable
+/// bodies) or one (that body's self-contact, TL methods).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// One or two body names.
+    pub bodies: Vec<String>,
+    /// Not built yet (refused in one line).
+    pub friction_static: Option<f64>,
+    /// Not built yet (refused in one line).
+    pub friction_kinetic: Option<f64>,
 }
 
 /// Quasi-static relaxation: the pairwise damping with `η = (β/4)√(ρ0 E) L`.

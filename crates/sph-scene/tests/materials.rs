@@ -150,11 +150,11 @@ fn bad_material_references_are_one_line_errors_naming_the_key() {
             "material.hard.youngs_modulus",
             "",
         ),
-        // TL runs one body (so one material).
+        // TL runs its bodies with one material.
         (
             pair("tl-hf", &two("1e9"), soft, hard),
             "body[1]",
-            "a TL method runs one body",
+            "a TL method runs its bodies with one material",
         ),
     ];
     for (text, key, message) in cases {
