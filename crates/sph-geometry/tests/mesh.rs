@@ -416,8 +416,8 @@ fn the_fit_and_its_report_do_not_depend_on_the_units() {
 #[test]
 fn matched_volume_makes_the_body_hold_the_enclosed_volume() {
     // A sphere at 20 particles across: the fill's N dp³ misses the enclosed volume by the cells
-    // the surface cuts (module docs of `fit`: +0.84 % relaxed); with `match_volume` (the
-    // default) every particle's volume, and with the density its mass, is scaled so the total
+    // the surface cuts (module docs of `fit`: +0.84 % relaxed); with `match_volume` (an
+    // option, off by default) every particle's volume, and with the density its mass, is scaled so the total
     // is the mesh's volume (to round-off in the sum: 1e-12), and the report keeps the raw N dp³.
     let s = MeshSolid::new(TriMesh::uv_sphere(DVec3::ZERO, 1.0, 64), "ball").unwrap();
     let dp = 0.1;
@@ -432,11 +432,11 @@ fn matched_volume_makes_the_body_hold_the_enclosed_volume() {
     // The miss is what the remedy is for (not round-off): more than 0.1 %.
     assert!((r.volume / r.mesh_volume - 1.0).abs() > 1e-3, "{r:?}");
 
+    assert!(!FitOptions::default().match_volume, "off by default");
     let options = FitOptions {
         relax_steps: 0,
-        ..FitOptions::default()
+        match_volume: true,
     };
-    assert!(options.match_volume);
     let (set, m) = fit(&s, dp, &options).unwrap();
     assert_eq!(set.positions(), raw.positions());
     assert_eq!(m.volume, r.volume, "the report keeps the raw volume");
@@ -462,7 +462,7 @@ fn matched_volume_leaves_a_cube_on_the_lattice_and_scales_an_outline() {
         0.1,
         &FitOptions {
             relax_steps: 0,
-            ..FitOptions::default()
+            match_volume: true,
         },
     )
     .unwrap();
@@ -482,7 +482,7 @@ fn matched_volume_leaves_a_cube_on_the_lattice_and_scales_an_outline() {
         1.0,
         &FitOptions {
             relax_steps: 0,
-            ..FitOptions::default()
+            match_volume: true,
         },
     )
     .unwrap();

@@ -51,9 +51,9 @@ fn a_mesh_body_is_fitted_and_a_mesh_region_holds_particles() {
     assert!((b.volume / 1e-9 - 523.6).abs() < 0.06 * 523.6, "{b:?}");
     let mesh = b.mesh_volume.unwrap();
     assert!((mesh / 1e-9 - 523.6).abs() < 0.02 * 523.6, "{b:?}");
-    // The fitted body holds the mesh's volume (by default): its particle volumes were scaled
-    // by volume_scale, and the raw fill N dp³ is volume / volume_scale.
-    assert!((b.volume / mesh - 1.0).abs() < 1e-12, "{b:?}");
+    // Scene files keep the fill's volumes (`FitOptions::match_volume` is off by default): the
+    // factor is 1 and the raw fill N dp³ is the volume.
+    assert_eq!(b.volume_scale, Some(1.0), "{b:?}");
     let raw = b.volume / b.volume_scale.unwrap();
     assert!(
         (raw / (b.particles as f64 * 1e-9) - 1.0).abs() < 1e-9,
