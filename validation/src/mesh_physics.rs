@@ -93,8 +93,15 @@ fn particles(source: &str, across: usize) -> Result<ParticleSet<D3>, String> {
             } else {
                 0
             };
-            let (set, _) =
-                fit(&solid, dp, &FitOptions { relax_steps }).map_err(|e| e.to_string())?;
+            let (set, _) = fit(
+                &solid,
+                dp,
+                &FitOptions {
+                    relax_steps,
+                    ..FitOptions::default()
+                },
+            )
+            .map_err(|e| e.to_string())?;
             Ok(set)
         }
     }

@@ -3,7 +3,7 @@
 //! (`DIR/<name>-preview.h5` and `.xmf`: `position`, `volume`, `id`, `body`, `constraint`), drawn
 //! (`DIR/<name>-preview.png`: 2D the particles coloured by body, and by constraint; 3D two cuts
 //! through the middle) and reported per body (`particles`, `volume`, `mesh_volume`,
-//! `surface_distance_rms`, `surface_distance_max` in units of dp, `volume_spread`).
+//! `volume_scale`, `surface_distance_rms`, `surface_distance_max` in units of dp, `volume_spread`).
 //!
 //! The same rules as `sph run` ([`crate::preflight::RunFiles`]): every destination is checked
 //! before anything is built, nothing is written outside `DIR` and the summary file, no input
@@ -123,6 +123,7 @@ fn report(scene: &Scene, p: &Preview) -> Map<String, Json> {
                     "dp": b.dp,
                     "volume": b.volume,
                     "mesh_volume": b.mesh_volume,
+                    "volume_scale": b.volume_scale,
                     "surface_distance_rms": b.surface_distance_rms,
                     "surface_distance_max": b.surface_distance_max,
                     "volume_spread": b.volume_spread,

@@ -59,6 +59,7 @@ fn preview_writes_the_particles_the_picture_and_the_report() {
     for key in [
         "volume",
         "mesh_volume",
+        "volume_scale",
         "surface_distance_rms",
         "surface_distance_max",
         "volume_spread",

@@ -23,7 +23,7 @@
 //! // A part drawn in millimetres, placed 1 cm up, fitted at 1 mm spacing.
 //! let place = Placement { scale: 1e-3, translate: DVec3::new(0.0, 0.0, 0.01), ..Default::default() };
 //! let part = MeshSolid::read(&path, &place)?;
-//! let (set, report) = fit(&part, 1e-3, &FitOptions { relax_steps: 20 })?;
+//! let (set, report) = fit(&part, 1e-3, &FitOptions { relax_steps: 20, ..FitOptions::default() })?;
 //! assert_eq!(report.particles, set.len());
 //! assert!((report.volume / report.mesh_volume - 1.0).abs() < 0.1);
 //! let body = Body::from(set);

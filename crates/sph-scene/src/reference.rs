@@ -115,7 +115,7 @@ pub fn keys() -> Vec<KeyDoc> {
         k("body[].name", "string", "required", "all", "the body's name (constraints, loads and overrides `body.NAME.KEY` refer to it)"),
         k("body[].dp", "number", "required", "all", "particle spacing (m)"),
         k("body[].shape", "a shape", "— (or particles)", "all", "the region the lattice (or polar or fitted layout) fills"),
-        k("body[].layout", "string", "fitted for a mesh or outline, else lattice", "all", "`lattice` (Cartesian, cell faces through the shape's lower bound), `polar` (concentric layers: a 2D ball or shell, a 3D cylinder) or `fitted` (a mesh or outline: the lattice relaxed so that the outer layer lies dp/2 inside the surface and the volumes are even)"),
+        k("body[].layout", "string", "fitted for a mesh or outline, else lattice", "all", "`lattice` (Cartesian, cell faces through the shape's lower bound), `polar` (concentric layers: a 2D ball or shell, a 3D cylinder) or `fitted` (a mesh or outline: the lattice relaxed so that the outer layer lies dp/2 inside the surface and the volumes are even; each particle keeps the volume dp^d, and the preview reports it against the enclosed volume)"),
         k("body[].relax_steps", "integer", "200", "all", "fitted layout: relaxation steps (0: the lattice fill as it is)"),
         k("body[].particles", "string", "— (or shape)", "all", "a CSV particle file, `x,y[,z],volume` per line (`#` comments), relative to the scene file"),
         k("body[].velocity", VEC, "at rest", "all", "uniform initial velocity (m/s)"),

@@ -51,6 +51,14 @@ fn a_mesh_body_is_fitted_and_a_mesh_region_holds_particles() {
     assert!((b.volume / 1e-9 - 523.6).abs() < 0.06 * 523.6, "{b:?}");
     let mesh = b.mesh_volume.unwrap();
     assert!((mesh / 1e-9 - 523.6).abs() < 0.02 * 523.6, "{b:?}");
+    // Scene files keep the fill's volumes (`FitOptions::match_volume` is off by default): the
+    // factor is 1 and the raw fill N dp³ is the volume.
+    assert_eq!(b.volume_scale, Some(1.0), "{b:?}");
+    let raw = b.volume / b.volume_scale.unwrap();
+    assert!(
+        (raw / (b.particles as f64 * 1e-9) - 1.0).abs() < 1e-9,
+        "{b:?}"
+    );
     assert!(
         b.surface_distance_rms.unwrap() < 0.2 && b.volume_spread.unwrap() < 0.05,
         "{b:?}"
@@ -85,8 +93,11 @@ fn an_outline_body_in_2d_with_the_lattice_or_fitted_layout() {
     // The L: 20 × 5 + 5 × 15 = 175 cells, exactly, on a lattice through its corner.
     assert_eq!(lattice.bodies[0].particles, 175);
     assert_eq!(lattice.bodies[0].mesh_volume, None);
+    assert_eq!(lattice.bodies[0].volume_scale, None);
     assert_eq!(fitted.bodies[0].particles, 175);
     assert!((fitted.bodies[0].mesh_volume.unwrap() - 175e-6).abs() < 1e-12);
+    // Cells fill the L exactly: the factor is 1 (to round-off).
+    assert!((fitted.bodies[0].volume_scale.unwrap() - 1.0).abs() < 1e-12);
     std::fs::remove_dir_all(dir).ok();
 }
 

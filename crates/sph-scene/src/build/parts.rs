@@ -311,6 +311,7 @@ impl Scene {
                     };
                     let options = FitOptions {
                         relax_steps: s.relax_steps.unwrap_or(DEFAULT_RELAX_STEPS),
+                        ..FitOptions::default()
                     };
                     let (set, r) = fit::<D>(&solid, s.dp, &options)
                         .map_err(|e| self.error_in(&at("shape"), &key("shape"), e.to_string()))?;

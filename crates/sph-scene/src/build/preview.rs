@@ -15,10 +15,16 @@ pub struct BodyPreview {
     pub dp: f64,
     /// Number of particles.
     pub particles: usize,
-    /// Total particle volume (area in 2D).
+    /// Total particle volume (area in 2D): what the body holds (a fitted body's after the
+    /// scaling [`volume_scale`](Self::volume_scale); its raw fill `N dp^d` is
+    /// `volume / volume_scale`).
     pub volume: f64,
     /// The volume (area) its mesh or outline encloses (`None` for other shapes).
     pub mesh_volume: Option<f64>,
+    /// The factor the fitted layout scaled every particle's volume by so the body holds
+    /// `mesh_volume` (`sph_geometry::fit::FitOptions::match_volume`; `None` for other layouts,
+    /// which are never scaled).
+    pub volume_scale: Option<f64>,
     /// RMS distance of its surface particles from depth `dp/2`, in units of `dp` (fitted
     /// layout only; see `sph_geometry::fit`).
     pub surface_distance_rms: Option<f64>,
@@ -94,6 +100,7 @@ impl Scene {
                 particles: r.len(),
                 volume: part.total_volume(),
                 mesh_volume: report.as_ref().map(|r| r.mesh_volume),
+                volume_scale: report.as_ref().map(|r| r.volume_scale),
                 surface_distance_rms: report.as_ref().map(|r| r.surface_distance_rms),
                 surface_distance_max: report.as_ref().map(|r| r.surface_distance_max),
                 volume_spread: report.as_ref().map(|r| r.volume_spread),

@@ -333,10 +333,11 @@ fn preview(a: PreviewArgs) -> Result<ExitCode, CaseError> {
                 None => "-".into(),
             };
             text.push_str(&format!(
-                "  {name}: {} particles, volume {} (mesh {}), surface distance rms {} max {} dp, volume spread {}\n",
+                "  {name}: {} particles, volume {} (mesh {}, scale {}), surface distance rms {} max {} dp, volume spread {}\n",
                 b["particles"],
                 f("volume"),
                 f("mesh_volume"),
+                f("volume_scale"),
                 f("surface_distance_rms"),
                 f("surface_distance_max"),
                 f("volume_spread")
