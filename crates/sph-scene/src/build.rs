@@ -402,10 +402,13 @@ impl Scene {
                     "`{}` is carried by {}; {method} takes an elastic law{}",
                     mspec.law,
                     plasticity::PLASTIC_METHODS.join(", "),
-                    if method == "ul-enog" {
-                        " (its Laplacian shear force has no stress tensor to return)"
-                    } else {
-                        ""
+                    match method {
+                        "ul-enog" => " (its Laplacian shear force has no stress tensor to return)",
+                        "tl-hf" => {
+                            " (its Laplacian shear force hard-wires an elastic deviator, which a \
+                             yield surface cannot cap)"
+                        }
+                        _ => "",
                     }
                 ),
             ));
@@ -614,6 +617,11 @@ impl Scene {
                     sph_tl::TlSolver::new(body, law, shear, params)
                 };
                 let mut s = built.map_err(|e| self.solver_error(e, &numerics_span, &known))?;
+                if let Some(law) = plastic {
+                    s = s
+                        .with_plasticity(law)
+                        .map_err(|e| self.core(mspan.clone(), "material", e))?;
+                }
                 for sp in pressures {
                     s = s
                         .with_surface_pressure(sp)
