@@ -402,10 +402,13 @@ impl Scene {
                     "`{}` is carried by {}; {method} takes an elastic law{}",
                     mspec.law,
                     plasticity::PLASTIC_METHODS.join(", "),
-                    if method == "ul-enog" {
-                        " (its Laplacian shear force has no stress tensor to return)"
-                    } else {
-                        ""
+                    match method {
+                        "ul-enog" => " (its Laplacian shear force has no stress tensor to return)",
+                        "tl-hf" => {
+                            " (its Laplacian shear force hard-wires an elastic deviator, which a \
+                             yield surface cannot cap)"
+                        }
+                        _ => "",
                     }
                 ),
             ));
@@ -631,6 +634,11 @@ impl Scene {
                     s = s.with_contact_scale(contact_scale).map_err(|e| {
                         self.core(numerics_span.clone(), "numerics.contact_scale", e)
                     })?;
+                }
+                if let Some(law) = plastic {
+                    s = s
+                        .with_plasticity(law)
+                        .map_err(|e| self.core(mspan.clone(), "material", e))?;
                 }
                 for sp in pressures {
                     s = s

@@ -1,4 +1,4 @@
-//! # sph-tl: total-Lagrangian SPH for elastic solids
+//! # sph-tl: total-Lagrangian SPH for elastic and elastic–plastic solids
 //!
 //! One solver, [`TlSolver`], generic over the dimension (`D2` plane strain, `D3`) and the
 //! material, with the shear treatment chosen when the body is built ([`Shear`]):
@@ -13,6 +13,12 @@
 //! step of eq 33 and Kelvin–Voigt damping (eq 23–24, [`damping`]). Loops are gathers over each
 //! particle's own neighbours, parallel with rayon, so results do not depend on the thread
 //! schedule.
+//!
+//! Plastic bodies ([`TlSolver::with_plasticity`], `tl` and `tl-gm`; `tl-hf` refuses one): J2 or
+//! Johnson–Cook plasticity at finite strain, `F = Fe Fp` with a Hencky elastic law and the
+//! exponential-map return, the history (`Cp⁻¹`, equivalent plastic strain, temperature rise)
+//! stepped with each stress evaluation ([`solver::plastic`]). An elastic body keeps an empty
+//! history and takes the elastic branch once per force pass.
 //!
 //! ```
 //! use glam::DVec2;

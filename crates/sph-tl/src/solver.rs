@@ -23,6 +23,7 @@ use sph_core::{
     Constraints, Dim, Error, Field, Kernel, Loads, NeighborList, Probe, Solver, StepInfo,
     WendlandC2,
 };
+use sph_materials::plasticity::HenckyPlasticity;
 use sph_materials::{von_mises, Material};
 use std::sync::Arc;
 
@@ -30,10 +31,12 @@ mod bodies;
 mod build;
 mod local;
 mod measures;
+pub mod plastic;
 mod scene;
 pub use bodies::DEFAULT_CONTACT_SCALE;
 use build::coincident_error;
 pub use local::distribute;
+pub use plastic::PlasticParticle;
 
 /// The shear treatment, fixed when the body is built (hoisted out of the inner loops).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -194,6 +197,10 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     deformation: Vec<D::Matrix>,
     deformation_rate: Vec<D::Matrix>,
     accelerations: Vec<D::Vector>,
+    /// The plastic law (`None`: elastic; see [`plastic`]).
+    plasticity: Option<HenckyPlasticity>,
+    /// Per-particle plastic history (empty for an elastic body, which pays nothing else).
+    plastic: Vec<PlasticParticle>,
     // Scratch (allocated once).
     stress: Vec<D::Matrix>,
     isochoric: Vec<f64>,
@@ -329,13 +336,16 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
 
     /// Accelerations of the current state (positions, `F`, `Ḟ`), without loads or constraints:
     /// the force evaluation of one step, exposed for tests and diagnostics.
+    /// A plastic body's history is not stepped (the return runs over the stable step).
     pub fn evaluate_accelerations(&mut self) -> &[D::Vector] {
-        self.compute_internal_accelerations();
+        self.compute_internal_accelerations(None);
         &self.accelerations
     }
 
-    /// The variant's internal accelerations into `self.accelerations`.
-    fn compute_internal_accelerations(&mut self) {
+    /// The variant's internal accelerations into `self.accelerations`. A plastic body returns
+    /// its stress over the step `dt` and, with `Some(dt)`, steps its history; with `None` it
+    /// returns over the stable step and leaves the history alone.
+    fn compute_internal_accelerations(&mut self, step: Option<f64>) {
         let inv_rho = 1.0 / self.density;
         let (material, gamma) = (&self.material, self.gamma);
         let view = self
@@ -344,13 +354,58 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         match self.shear {
             Shear::Original | Shear::Ganzenmuller { .. } => {
                 let (f, fd, b) = (&self.deformation, &self.deformation_rate, &self.correction);
-                gather(
-                    &mut self.stress,
-                    #[inline(always)]
-                    |i, s| {
-                        *s = original::corrected_piola::<D, M>(material, gamma, f[i], fd[i], b[i]);
-                    },
-                );
+                match (&self.plasticity, step) {
+                    (None, _) => gather(
+                        &mut self.stress,
+                        #[inline(always)]
+                        |i, s| {
+                            *s = original::corrected_piola::<D, M>(
+                                material, gamma, f[i], fd[i], b[i],
+                            );
+                        },
+                    ),
+                    (Some(plasticity), Some(dt)) => {
+                        let volumes = &self.volumes;
+                        gather2(
+                            &mut self.stress,
+                            &mut self.plastic,
+                            #[inline(always)]
+                            |i, s, particle| {
+                                let (p, r) = plastic::plastic_corrected_piola::<D>(
+                                    plasticity,
+                                    gamma,
+                                    f[i],
+                                    fd[i],
+                                    b[i],
+                                    &particle.history,
+                                    dt,
+                                );
+                                *s = p;
+                                particle.history = r.history;
+                                particle.dissipated += volumes[i] * r.plastic_work;
+                            },
+                        );
+                    }
+                    (Some(plasticity), None) => {
+                        let (history, dt) = (&self.plastic, self.stable_dt());
+                        gather(
+                            &mut self.stress,
+                            #[inline(always)]
+                            |i, s| {
+                                *s = plastic::plastic_corrected_piola::<D>(
+                                    plasticity,
+                                    gamma,
+                                    f[i],
+                                    fd[i],
+                                    b[i],
+                                    &history[i].history,
+                                    dt,
+                                )
+                                .0;
+                            },
+                        );
+                    }
+                }
                 let (stress, acc) = (&self.stress, &mut self.accelerations);
                 with_pair_rows!(view, |rows| {
                     original::stress_divergence::<D>(rows, stress, inv_rho, acc);
@@ -513,8 +568,8 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             &self.velocities,
             half,
         );
-        // Forces at the half step; contact; loads; constraints.
-        self.compute_internal_accelerations();
+        // Forces at the half step (a plastic body's return over Δt); contact; loads; constraints.
+        self.compute_internal_accelerations(Some(dt));
         if let Some(c) = &mut self.contact {
             c.add_accelerations(
                 &self.positions,
@@ -651,20 +706,36 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
     fn field_names(&self) -> Vec<&'static str> {
         let mut names = DEFORMATION_FIELDS.to_vec();
         names.extend(["von_mises", "disorder", "body", "material"]);
+        if self.plasticity.is_some() {
+            names.push("plastic_strain");
+            if self.thermal() {
+                names.push("temperature");
+            }
+        }
         names
     }
 
     /// The deformation fields, `von_mises`, `disorder`; `body` (each particle's body,
     /// [`TlSolver::with_bodies`]) and `material` (0: a TL solver runs one material), as the UL
-    /// and MPS fields of those names.
+    /// and MPS fields of those names; for a plastic body `plastic_strain` (and `temperature`
+    /// with thermal softening), and `von_mises` of the returned stress.
     fn field(&self, name: &str) -> Option<Field<D>> {
         match name {
-            "von_mises" => Some(Field::Scalar(
-                self.deformation
+            "von_mises" => Some(Field::Scalar(match &self.plasticity {
+                None => self
+                    .deformation
                     .par_iter()
                     .map(|&f| von_mises(self.cauchy_3d(f)))
                     .collect(),
-            )),
+                Some(p) => (0..self.deformation.len())
+                    .into_par_iter()
+                    .map(|i| von_mises(self.plastic_cauchy_3d(p, i)))
+                    .collect(),
+            })),
+            "plastic_strain" if self.plasticity.is_some() => {
+                Some(Field::Scalar(self.plastic_strain()))
+            }
+            "temperature" if self.thermal() => Some(Field::Scalar(self.temperatures())),
             "disorder" => Some(Field::Scalar(self.disorder())),
             "body" => Some(Field::Scalar(
                 self.bodies().iter().map(|&b| f64::from(b)).collect(),
@@ -693,13 +764,18 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
     }
 
     /// The tools' work on the body (`tool_contact_work`, `friction_work`,
-    /// `friction_dissipated`; none without tools).
+    /// `friction_dissipated`; none without tools) and, for a plastic body, `plastic_work`.
     fn figures(&self) -> Vec<(&'static str, f64)> {
-        self.tools.figures()
+        let mut figures = self.tools.figures();
+        if self.plasticity.is_some() {
+            figures.push(("plastic_work", self.plastic_work()));
+        }
+        figures
     }
 
     /// The state: `x`, `v`, `F`, `Ḟ`, the last accelerations and the extremes the time step
-    /// reads, time and steps, probe and series records and the reaction meters.
+    /// reads, time and steps, probe and series records and the reaction meters; for a plastic
+    /// body its history (`Cp⁻¹`, `ε̄p`, temperature rise, dissipation).
     fn save_state(&self, out: &mut StateWriter) -> Result<(), Error> {
         out.vectors::<D>("positions", &self.positions);
         out.vectors::<D>("velocities", &self.velocities);
@@ -722,6 +798,27 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         save_series(out, &self.series);
         self.tools.save(out);
         ReactionMeter::save_all(out, "grip_meters", &self.grip_meters);
+        // The plastic history, only for a plastic body (an elastic checkpoint is unchanged).
+        if !self.plastic.is_empty() {
+            let column = |f: fn(&PlasticParticle) -> f64| -> Vec<f64> {
+                self.plastic.iter().map(f).collect()
+            };
+            let cp_inv: Vec<glam::DMat3> = self
+                .plastic
+                .iter()
+                .map(|p| p.history.inverse_plastic_cauchy_green)
+                .collect();
+            out.matrices::<sph_core::D3>("inverse_plastic_cauchy_green", &cp_inv);
+            out.f64s(
+                "plastic_strain",
+                &column(|p| p.history.state.equivalent_plastic_strain),
+            );
+            out.f64s(
+                "temperature_rise",
+                &column(|p| p.history.state.temperature_rise),
+            );
+            out.f64s("plastic_dissipation", &column(|p| p.dissipated));
+        }
         Ok(())
     }
 
@@ -742,6 +839,18 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         restore_series(input, &mut self.series)?;
         self.tools.restore(input)?;
         ReactionMeter::restore_all(input, "grip_meters", &mut self.grip_meters)?;
+        if !self.plastic.is_empty() {
+            let cp_inv = input.matrices::<sph_core::D3>("inverse_plastic_cauchy_green", n)?;
+            let eps = input.f64s("plastic_strain", n)?;
+            let rise = input.f64s("temperature_rise", n)?;
+            let dissipated = input.f64s("plastic_dissipation", n)?;
+            for (k, p) in self.plastic.iter_mut().enumerate() {
+                p.history.inverse_plastic_cauchy_green = cp_inv[k];
+                p.history.state.equivalent_plastic_strain = eps[k];
+                p.history.state.temperature_rise = rise[k];
+                p.dissipated = dissipated[k];
+            }
+        }
         self.check_finite()
     }
 

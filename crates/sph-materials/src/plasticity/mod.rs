@@ -10,6 +10,10 @@
 //!   [`Plasticity::return_stress`] is the one call a solver makes per particle after each
 //!   deviatoric stress update ([`radial_return`], Simo & Hughes 1998 Box 3.2).
 //!
+//! - [`HenckyPlasticity`]: the same laws at finite strain for total-Lagrangian solvers
+//!   (`F = Fe Fp`, Hencky elasticity, the exponential-map return of [`finite_strain`], whose
+//!   principal-frame return is [`Plasticity::return_stress`]).
+//!
 //! In 2D the deviator is the updated-Lagrangian paper's in-plane one (`d = 2`, `s_zz = 0`), so
 //! `q = √(3/2 s:s)` sums its in-plane components; in 3D it is the full deviator.
 //!
@@ -35,10 +39,14 @@
 //! # Ok::<(), sph_core::Error>(())
 //! ```
 
+pub mod finite_strain;
 pub mod hardening;
 pub mod johnson_cook;
 pub mod return_mapping;
 
+pub use finite_strain::{
+    first_piola_of_kirchhoff, FinitePlasticState, HenckyPlasticity, HenckyReturn,
+};
 pub use hardening::IsotropicHardening;
 pub use johnson_cook::{JohnsonCook, ThermalSoftening};
 pub use return_mapping::{

@@ -33,8 +33,8 @@ impl Scene {
             span: span.clone(),
             key,
         };
-        // A plastic law's elastic part is the constants (the UL methods that carry it use only
-        // them); the methods that cannot carry it refuse it (`Scene::run_in`).
+        // A plastic law's elastic part is the constants (hypoelastic in UL, Hencky in TL: the
+        // methods that carry it use only them); the others refuse it (`Scene::run_in`).
         let kind: MaterialKind = if super::plasticity::is_plastic(&s.law) {
             MaterialKind::LinearElastic
         } else {

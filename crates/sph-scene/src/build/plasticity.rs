@@ -1,6 +1,7 @@
 //! The plastic laws of a scene's `[material]` (`law = "j2"` or `"johnson-cook"`) and their keys;
 //! the elastic part of a plastic material is its `youngs_modulus` and `nu` (or `bulk_modulus` and
-//! `shear_modulus`), read by [`Scene::material`](super::Scene).
+//! `shear_modulus`), read by [`Scene::material`](super::Scene): hypoelastic for the UL methods,
+//! a Hencky (logarithmic) law for `tl` and `tl-gm`.
 
 use super::*;
 use sph_materials::plasticity::{IsotropicHardening, JohnsonCook, PlasticLaw, ThermalSoftening};
@@ -9,8 +10,9 @@ use sph_materials::plasticity::{IsotropicHardening, JohnsonCook, PlasticLaw, The
 const DEFAULT_REFERENCE_STRAIN_RATE: f64 = 1.0;
 const DEFAULT_TAYLOR_QUINNEY: f64 = 0.9;
 
-/// The methods that carry a plastic law.
-pub(super) const PLASTIC_METHODS: [&str; 3] = ["ul-og", "ul-oas", "ul-gnog"];
+/// The methods that carry a plastic law (UL: the hypoelastic radial return; TL: the
+/// finite-strain exponential-map return on a Hencky law, `sph_tl::solver::plastic`).
+pub(super) const PLASTIC_METHODS: [&str; 5] = ["ul-og", "ul-oas", "ul-gnog", "tl", "tl-gm"];
 
 /// Whether `law` names a plastic law.
 pub(super) fn is_plastic(law: &str) -> bool {

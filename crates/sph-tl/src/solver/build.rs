@@ -147,6 +147,8 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             deformation: Vec::new(),
             deformation_rate: Vec::new(),
             accelerations: Vec::new(),
+            plasticity: None,
+            plastic: Vec::new(),
             stress: Vec::new(),
             isochoric: Vec::new(),
             constraints: Constraints::new(),

@@ -150,6 +150,9 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         self.velocities = domain.pick(&self.velocities);
         self.volumes = domain.pick(&self.volumes);
         self.masses = domain.pick(&self.masses);
+        if !self.plastic.is_empty() {
+            self.plastic = domain.pick(&self.plastic);
+        }
         self.free = global
             .iter()
             .zip(domain.owned())

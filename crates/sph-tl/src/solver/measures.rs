@@ -67,7 +67,9 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             .angular_momentum::<D>(&self.positions, &self.velocities, &self.masses)
     }
 
-    /// Kinetic and strain energy (over all ranks in a distributed run).
+    /// Kinetic and strain energy (over all ranks in a distributed run); for a plastic body the
+    /// strain energy is the Hencky energy of the elastic part (the plastic work is
+    /// [`TlSolver::plastic_work`]).
     pub fn energy(&self) -> Energy {
         let kinetic =
             diagnostics::kinetic_energy::<D>(&self.velocities, &self.domain.counted(&self.masses));
@@ -77,7 +79,10 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             .zip(&self.volumes)
             .enumerate()
             .filter(|(i, _)| self.domain.counts(*i))
-            .map(|(_, (&f, &v))| v * self.material.strain_energy_density(f).unwrap_or(f64::NAN))
+            .map(|(i, (&f, &v))| match &self.plasticity {
+                None => v * self.material.strain_energy_density(f).unwrap_or(f64::NAN),
+                Some(p) => self.plastic_strain_energy(p, i),
+            })
             .sum();
         let s = self.domain.sum_over_ranks(&[kinetic, strain]);
         Energy {
