@@ -163,6 +163,46 @@ impl<D: Dim> Body<D> {
     }
 }
 
+/// The per-particle material index of a body of `n` particles with `materials` laws: `material_of`
+/// empty (every particle the first law) or one index per particle below `materials`, stored as
+/// `u16` (UL's and MPS's `with_materials`).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] naming `materials` (none, or more than 65,536) or `material_of`
+/// (wrong length, or an index without a law).
+pub fn material_indices(
+    materials: usize,
+    material_of: &[u32],
+    n: usize,
+) -> Result<Vec<u16>, Error> {
+    if materials == 0 || materials > usize::from(u16::MAX) + 1 {
+        return Err(Error::invalid(
+            "materials",
+            materials,
+            "1 to 65536 materials",
+        ));
+    }
+    if !(material_of.is_empty() || material_of.len() == n) {
+        return Err(Error::invalid(
+            "material_of",
+            material_of.len(),
+            &format!("empty or one material index per particle ({n})"),
+        ));
+    }
+    if let Some(&m) = material_of.iter().find(|&&m| m as usize >= materials) {
+        return Err(Error::invalid(
+            "material_of",
+            m,
+            &format!("a material index below {materials}"),
+        ));
+    }
+    Ok(if material_of.is_empty() {
+        vec![0; n]
+    } else {
+        material_of.iter().map(|&m| m as u16).collect()
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -49,27 +49,7 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
         params.validate()?;
         let n = body.len();
         let velocities = body.velocities_or_rest();
-        if materials.is_empty() || materials.len() > usize::from(u16::MAX) + 1 {
-            return Err(Error::invalid(
-                "materials",
-                materials.len(),
-                "1 to 65536 materials",
-            ));
-        }
-        if !(material_of.is_empty() || material_of.len() == n) {
-            return Err(Error::invalid(
-                "material_of",
-                material_of.len(),
-                &format!("empty or one material index per particle ({n})"),
-            ));
-        }
-        if let Some(&m) = material_of.iter().find(|&&m| m as usize >= materials.len()) {
-            return Err(Error::invalid(
-                "material_of",
-                m,
-                &format!("a material index below {}", materials.len()),
-            ));
-        }
+        let material = sph_core::body::material_indices(materials.len(), &material_of, n)?;
         for material in &materials {
             if material.strain_energy_density(D::identity()).is_none() {
                 return Err(Error::invalid(
@@ -79,11 +59,6 @@ impl<D: Dim, M: Material<D>> MpsSolver<D, M> {
                 ));
             }
         }
-        let material: Vec<u16> = if material_of.is_empty() {
-            vec![0; n]
-        } else {
-            material_of.iter().map(|&m| m as u16).collect()
-        };
         let constants_of = |i: usize| *materials[material[i] as usize].constants();
         let sound_speed = materials
             .iter()

@@ -77,32 +77,7 @@ impl<D: Dim> UlSolver<D> {
         shear.validate()?;
         let n = body.len();
         check_per_particle("densities", &body.densities, n, true)?;
-        if materials.is_empty() || materials.len() > usize::from(u16::MAX) + 1 {
-            return Err(Error::invalid(
-                "materials",
-                materials.len(),
-                "1 to 65536 materials",
-            ));
-        }
-        if !(material_of.is_empty() || material_of.len() == n) {
-            return Err(Error::invalid(
-                "material_of",
-                material_of.len(),
-                &format!("empty or one material index per particle ({n})"),
-            ));
-        }
-        if let Some(&m) = material_of.iter().find(|&&m| m as usize >= materials.len()) {
-            return Err(Error::invalid(
-                "material_of",
-                m,
-                &format!("a material index below {}", materials.len()),
-            ));
-        }
-        let material: Vec<u16> = if material_of.is_empty() {
-            vec![0; n]
-        } else {
-            material_of.iter().map(|&m| m as u16).collect()
-        };
+        let material = sph_core::body::material_indices(materials.len(), &material_of, n)?;
         let velocities = body.velocities_or_rest();
         let rho0 = |i: usize| materials[material[i] as usize].density;
         let kernel = WendlandC2::<D>::from_spacing(body.dp, params.h_over_dp)?;
