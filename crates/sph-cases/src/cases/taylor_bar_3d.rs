@@ -14,8 +14,17 @@
 //!
 //! TL against UL at the test resolution (R/dp = 3, 840 particles, the reference set-up,
 //! `tests/taylor.rs`): L_f = 28.31 mm (tl), 28.33 mm (tl-gm), 27.19 mm (ul-og): TL is 4.1 %
-//! and 4.2 % longer; R_f = 3.85, 3.80, 4.49 mm; plastic work 0.80, 0.90, 0.67 of KE0. TL's
-//! convergence with resolution is not yet measured.
+//! and 4.2 % longer; R_f = 3.85, 3.80, 4.49 mm; plastic work 0.80, 0.90, 0.67 of KE0.
+//!
+//! **TL does not yet carry this case beyond the coarsest resolutions** (measured, release,
+//! `sph run taylor-bar-3d --method M --set resolution=R --threads 2 --no-output --summary
+//! s.json`): at R/dp = 4 it runs to 80 µs but its plastic work exceeds the initial kinetic
+//! energy (1.25 KE0 tl, 1.33 KE0 tl-gm) and its largest ε̄p is 12.7 / 15.5 at the struck
+//! face's rim (UL-OG's 0.63 at R/dp 3); at R/dp = 6 (tl) and 8 (tl, tl-gm) a particle inverts
+//! or leaves the finite numbers between 23 and 33 µs and the run stops with that diagnostic
+//! (`tl-gm` at 6 reaches the end with W_p 1.78 KE0 and ε̄p 83). So the rim's extreme shear
+//! defeats plain TL's and GM's reference kernel; use the UL methods for impacts until that is
+//! fixed.
 //!
 //! Material: UL's elastic constants (`youngs_modulus`, `nu`, `density`) with the plastic law
 //! `law`: `johnson-cook` (default; `A`, `B`, `n`, `C`, `reference_strain_rate`, and with
