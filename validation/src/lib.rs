@@ -14,6 +14,7 @@ pub mod frames;
 pub mod geometry;
 pub mod h5report;
 pub mod hertz;
+pub mod hf_laplacian;
 pub mod impacts;
 pub mod mesh_physics;
 pub mod mps;

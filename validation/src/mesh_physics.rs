@@ -109,6 +109,22 @@ fn particles(source: &str, across: usize) -> Result<ParticleSet<D3>, String> {
 
 /// One run: the measured breathing period of `source` at `across` with TL (`hf`: TL-SPH-HF).
 fn measure(source: &str, across: usize, hf: bool) -> Result<Value, String> {
+    let shear = if hf {
+        Shear::hourglass_free()
+    } else {
+        Shear::Original
+    };
+    measure_with(source, across, shear, TlParams::default())
+}
+
+/// [`measure`] with any TL shear treatment and numerical parameters: the row's `method` is
+/// the shear's name.
+pub fn measure_with(
+    source: &str,
+    across: usize,
+    shear: Shear,
+    params: TlParams,
+) -> Result<Value, String> {
     let set = particles(source, across)?;
     let n = set.len();
     let volumes = set.volumes().to_vec();
@@ -127,13 +143,7 @@ fn measure(source: &str, across: usize, hf: bool) -> Result<Value, String> {
     let law = SaintVenantKirchhoff::new(
         ElasticConstants::from_youngs(YOUNGS, NU, DENSITY).map_err(|e| e.to_string())?,
     );
-    let shear = if hf {
-        Shear::hourglass_free()
-    } else {
-        Shear::Original
-    };
-    let mut s =
-        TlSolver::<D3, _>::new(body, law, shear, TlParams::default()).map_err(|e| e.to_string())?;
+    let mut s = TlSolver::<D3, _>::new(body, law, shear, params).map_err(|e| e.to_string())?;
     let total: f64 = volumes.iter().sum();
     let moment = |s: &TlSolver<D3, SaintVenantKirchhoff>| {
         let x = s.positions();
@@ -167,7 +177,7 @@ fn measure(source: &str, across: usize, hf: bool) -> Result<Value, String> {
     let measured = crossings[2] - crossings[0];
     Ok(json!({
         "source": source,
-        "method": if hf { "tl-hf" } else { "tl" },
+        "method": shear.method_name(),
         "across": across,
         "particles": n,
         "steps": s.step_count(),

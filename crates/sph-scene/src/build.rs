@@ -598,12 +598,24 @@ impl Scene {
                         format!("`{pair_data}`: allowed values are stored, recomputed"),
                     ));
                 };
+                let laplacian = keys.text("laplacian", d.hf_laplacian.name());
+                let Some(hf_laplacian) = sph_tl::HfLaplacian::from_name(&laplacian) else {
+                    return Err(self.error_in(
+                        &At {
+                            span: numerics_span.clone(),
+                            key: "laplacian",
+                        },
+                        "numerics.laplacian",
+                        format!("`{laplacian}`: allowed values are paper, normalised"),
+                    ));
+                };
                 let params = sph_tl::TlParams {
                     h_over_dp: keys.f64("h_over_dp", d.h_over_dp),
                     cfl: keys.f64("cfl", d.cfl),
                     damping: keys.bool("damping", d.damping),
                     stretch_limited_dt: keys.bool("dt_stretch", d.stretch_limited_dt),
                     pair_storage,
+                    hf_laplacian,
                     ..d
                 };
                 let keys_contact_scale = keys.f64("contact_scale", sph_tl::DEFAULT_CONTACT_SCALE);
@@ -983,7 +995,8 @@ pub fn numerics_keys(method: &str) -> Option<Vec<&'static str>> {
         ],
     };
     keys.extend_from_slice(match method {
-        "tl-hf" | "ul-enog" => &["zeta"][..],
+        "tl-hf" => &["zeta", "laplacian"][..],
+        "ul-enog" => &["zeta"][..],
         "tl-gm" => &["alpha"][..],
         "ul-oas" => &["epsilon", "n"][..],
         "ul-gnog" => &["xi"][..],

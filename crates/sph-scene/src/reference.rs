@@ -87,6 +87,7 @@ pub fn keys() -> Vec<KeyDoc> {
         k("numerics.dt_stretch", "boolean", &tl.stretch_limited_dt.to_string(), "TL", "scale the time step by the smallest principal stretch (strong compression)"),
         k("numerics.pair_data", "string", tl.pair_storage.name(), "TL", "`stored` reference kernel data, or `recomputed` at every force pass (less memory, about 2.5× the time)"),
         k("numerics.zeta", "number", &format!("{} (tl-hf), 0.7 d + 2.1 (ul-enog, d the dimension)", num(sph_tl::hourglass_free::DEFAULT_ZETA)), "tl-hf, ul-enog", "ζ of the non-nested shear (Laplacian of position / of velocity)"),
+        k("numerics.laplacian", "string", tl.hf_laplacian.name(), "tl-hf", "`paper`: the paper's one ζ for the Laplacian of position; `normalised`: each particle's own ζ = d / tr of its reference neighbourhood's second moment (1.033 in a full 2D lattice neighbourhood, about 1.6 at a flat face, where 1.07 is too stiff and too soft); `zeta` then stays at its default"),
         k("numerics.alpha", "number", &num(sph_tl::ganzenmuller::DEFAULT_ALPHA), "tl-gm", "Ganzenmüller's hourglass-control strength α"),
         k("numerics.cfl_acoustic", "number", &num(ul.cfl_acoustic), "UL", "CFL number of the acoustic step"),
         k("numerics.cfl_advection", "number", &num(ul.cfl_advection), "UL", "CFL number of the advection step"),

@@ -152,6 +152,25 @@ fn errors_name_the_file_the_line_and_the_key() {
         e.contains("numerics.pair_data") && e.contains("stored, recomputed"),
         "{e}"
     );
+    let e = parse_err(&format!("{BASE}\n[numerics]\nlaplacian = \"exact\"\n"));
+    assert!(
+        e.contains("numerics.laplacian") && e.contains("paper, normalised"),
+        "{e}"
+    );
+    // TL-HF's normalised Laplacian: another method's key, and a ζ it cannot honour.
+    let e = parse_err(&format!(
+        "{}\n[numerics]\nlaplacian = \"normalised\"\n",
+        BASE.replace("\"tl-hf\"", "\"tl\"")
+    ));
+    assert!(e.contains("laplacian") && e.lines().count() == 1, "{e}");
+    let e = parse_err(&format!(
+        "{BASE}\n[numerics]\nlaplacian = \"normalised\"\nzeta = 1.0\n"
+    ));
+    assert!(e.contains("zeta") && e.contains("1.07"), "{e}");
+    let ok = format!("{BASE}\n[numerics]\nlaplacian = \"normalised\"\n");
+    let scene = Scene::parse(&ok, "s.toml", Path::new("."), "s").unwrap();
+    let (record, summary) = scene.run(&RunOptions::default()).unwrap();
+    assert!(record.failure.is_none() && summary["status"] == "completed");
     let e = parse_err(&BASE.replace("[0.0, 0.0]", "[0.0, 0.0, 0.0]"));
     assert!(
         e.contains("body[0].shape") && e.contains("expected 2"),

@@ -17,12 +17,88 @@
 use crate::damping::damping_kirchhoff;
 use crate::original::nan_matrix;
 use crate::reference_pairs::PairRows;
+use serde::{Deserialize, Serialize};
 use sph_core::parallel::gather;
 use sph_core::Dim;
 use sph_materials::Material;
 
 /// Default ζ = 1.07 (TL paper §4, for the Wendland C2 kernel with h = 1.15 dp).
 pub const DEFAULT_ZETA: f64 = 1.07;
+
+/// Which ζ scales the Laplacian of eq 27 (and, with it, the trace term of eq 28 that cancels
+/// it at rest).
+///
+/// The paper's constant ζ = 1.07 makes the Laplacian exact for none of the neighbourhoods a
+/// body has: on a full square lattice at h = 1.15 dp the discrete second moment of its weights
+/// ([`normalised_zeta`]) asks for 1.033 (2D) or 1.006 (3D), so the shear modulus is 3.6 % or
+/// 6.4 % too stiff in the bulk at every resolution, and a particle of a free surface's outer
+/// layer, which misses part of its neighbourhood, needs 1.4 (3D) to 1.6 (2D) and gets 1.07:
+/// the surface layer's shear is too soft by a quarter to a third.
+/// [`HfLaplacian::Normalised`] gives every particle the ζ of its own neighbourhood. Measured
+/// (docs/validation.md, "TL-HF: the Laplacian normalised per particle"): the errors that did
+/// not shrink with resolution converge (homogeneous compression, Lamé ring), the plate period
+/// moves toward the finite-element one, and the undamped plate that inverts a particle with the
+/// paper's ζ runs through.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HfLaplacian {
+    /// The paper's constant ζ ([`crate::Shear::HourglassFree`]'s `zeta`, 1.07 by default):
+    /// reproduces the TL paper's results.
+    #[default]
+    Paper,
+    /// Each particle's own ζ from its reference neighbourhood ([`normalised_zeta`]); the
+    /// shear's `zeta` is not used (and must stay at its default).
+    Normalised,
+}
+
+impl HfLaplacian {
+    /// The name a case or scene key spells (`paper`, `normalised`).
+    pub fn name(self) -> &'static str {
+        match self {
+            HfLaplacian::Paper => "paper",
+            HfLaplacian::Normalised => "normalised",
+        }
+    }
+
+    /// The choice a key names.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [HfLaplacian::Paper, HfLaplacian::Normalised]
+            .into_iter()
+            .find(|s| s.name() == name)
+    }
+}
+
+/// The normalised ζ of every particle: `ζ_i = d / m_i`, `m_i = −Σ_j |X_ij|² V_j W′(r⁰_ij)/r⁰_ij`
+/// over its reference neighbours (`X_ij = X_i − X_j`; `V_j W′/r⁰` is the pair scalar of
+/// eq 27).
+///
+/// The Laplacian of eq 27 applied to a quadratic field `½ Xᵀ H X` returns `H : M_i` with
+/// `M_i = −Σ_j X_ij ⊗ X_ij V_j W′/r⁰`, and `M_i = I` in the continuum (by parts,
+/// `−∫ r W′(r) dV = d ∫ W dV = d`), so `ζ_i = d / tr M_i` makes it exact for any neighbourhood
+/// whose second moment is isotropic: 1 in the continuum, 1.033 (2D) and 1.006 (3D) on a full
+/// square lattice at h = 1.15 dp, 1.58 (2D) and 1.41 (3D) in the outer layer of a flat face.
+/// A particle without neighbours (a distributed run's outer halo layer, whose rows are left
+/// empty and whose values no owned particle reads) gets 1. Eq 27 and eq 28 both take the
+/// particle's own `ζ_i` (pairs carry `ζ_i g_i` and `ζ_j g_j`), so the two still cancel exactly
+/// in the undeformed state and every pair force stays antisymmetric: momentum is conserved as
+/// with the constant ζ.
+pub fn normalised_zeta<D: Dim>(pairs: impl PairRows<D>, reference: &[D::Vector]) -> Vec<f64> {
+    let d = D::D as f64;
+    (0..reference.len())
+        .map(|i| {
+            let xi = reference[i];
+            let m = pairs.fold(i, 0.0, |m, j, _, s| {
+                let r = xi - reference[j];
+                m - D::dot(r, r) * s
+            });
+            if m > 0.0 {
+                d / m
+            } else {
+                1.0
+            }
+        })
+        .collect()
+}
 
 /// Eq 28: the remaining Kirchhoff stress `τ_r` of the material's HF split
 /// ([`Material::hf_split`]: for the paper's law `[(K/2)(J² − 1) − (ζ/d) G J^(−2/d) tr(b)] I`)

@@ -58,5 +58,6 @@ pub mod original;
 pub mod reference_pairs;
 pub mod solver;
 
+pub use hourglass_free::HfLaplacian;
 pub use reference_pairs::PairStorage;
 pub use solver::{distribute, Energy, Shear, TlParams, TlSolver, DEFAULT_CONTACT_SCALE};

@@ -1,6 +1,7 @@
 //! The TL solver: body set-up in the reference configuration and the position-Verlet step
 //! (TL paper eq 30–32) with the time step of eq 33.
 
+use crate::hourglass_free::HfLaplacian;
 use crate::reference_pairs::{with_pair_rows, PairStorage, PairView, ReferencePairs};
 use crate::{ganzenmuller, hourglass_free, original};
 use rayon::prelude::*;
@@ -80,7 +81,34 @@ impl Shear {
         }
     }
 
-    fn validate(&self) -> Result<(), Error> {
+    /// Checks the shear's constant and that `laplacian` is one this shear can honour.
+    fn validate(&self, laplacian: HfLaplacian) -> Result<(), Error> {
+        match (*self, laplacian) {
+            (_, HfLaplacian::Paper) => {}
+            (Shear::HourglassFree { zeta }, HfLaplacian::Normalised) => {
+                if zeta != hourglass_free::DEFAULT_ZETA {
+                    return Err(Error::invalid(
+                        "zeta",
+                        zeta,
+                        &format!(
+                            "{} (its default) with laplacian = normalised, which gives every \
+                             particle its own ζ",
+                            hourglass_free::DEFAULT_ZETA
+                        ),
+                    ));
+                }
+            }
+            (other, HfLaplacian::Normalised) => {
+                return Err(Error::invalid(
+                    "laplacian",
+                    "normalised",
+                    &format!(
+                        "paper for {} (the normalised Laplacian is TL-HF's)",
+                        other.method_name()
+                    ),
+                ));
+            }
+        }
         match *self {
             Shear::Original => Ok(()),
             Shear::HourglassFree { zeta } => check_positive("zeta", zeta),
@@ -118,6 +146,10 @@ pub struct TlParams {
     /// [`PairStorage::Stored`]; key `pair_data`.
     #[serde(default)]
     pub pair_storage: PairStorage,
+    /// TL-HF: the paper's constant ζ or each particle's own ([`HfLaplacian`]); default the
+    /// paper's. Key `laplacian`. Another method with [`HfLaplacian::Normalised`] is an error.
+    #[serde(default)]
+    pub hf_laplacian: HfLaplacian,
 }
 
 impl TlParams {
@@ -151,6 +183,7 @@ impl Default for TlParams {
             min_dt_ratio: diagnostics::MIN_DT_RATIO,
             stretch_limited_dt: false,
             pair_storage: PairStorage::Stored,
+            hf_laplacian: HfLaplacian::Paper,
         }
     }
 }
@@ -203,7 +236,12 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     plastic: Vec<PlasticParticle>,
     // Scratch (allocated once).
     stress: Vec<D::Matrix>,
+    /// HF: the factor of each particle's shear stress in eq 27, `g_i` (`J^(−2/d)` for the
+    /// paper's law), times `ζ_i` with the normalised Laplacian.
     isochoric: Vec<f64>,
+    /// HF with [`HfLaplacian::Normalised`]: each particle's `ζ_i`
+    /// ([`hourglass_free::normalised_zeta`]); empty with the paper's constant ζ.
+    hf_zeta: Vec<f64>,
     // Scene.
     constraints: Constraints<D>,
     free: Vec<bool>,
@@ -423,20 +461,24 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                 });
             }
             Shear::HourglassFree { zeta } => {
-                let (f, fd) = (&self.deformation, &self.deformation_rate);
+                let (f, fd, own) = (&self.deformation, &self.deformation_rate, &self.hf_zeta);
                 gather2(
                     &mut self.stress,
                     &mut self.isochoric,
                     #[inline(always)]
                     |i, s, jf| {
+                        // Each particle's ζ_i (normalised Laplacian) goes into its factor
+                        // ζ_i g_i of eq 27; the paper's one ζ scales the whole sum below.
+                        let z = if own.is_empty() { zeta } else { own[i] };
                         let (p, j) = hourglass_free::remaining_piola::<D, M>(
-                            material, zeta, gamma, f[i], fd[i],
+                            material, z, gamma, f[i], fd[i],
                         );
                         *s = p;
-                        *jf = j;
+                        *jf = if own.is_empty() { j } else { z * j };
                     },
                 );
                 let g = material.constants().shear_modulus;
+                let scale = if own.is_empty() { zeta } else { 1.0 };
                 let (stress, acc) = (&self.stress, &mut self.accelerations);
                 with_pair_rows!(view, |rows| hourglass_free::acceleration::<D>(
                     rows,
@@ -444,7 +486,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                     &self.positions,
                     &self.isochoric,
                     inv_rho,
-                    zeta * g * inv_rho,
+                    scale * g * inv_rho,
                     acc,
                 ));
             }
@@ -526,6 +568,13 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// How many particles needed the correction-matrix guard.
     pub fn guarded_particles(&self) -> usize {
         self.guarded
+    }
+
+    /// Each particle's ζ of TL-HF's normalised Laplacian ([`HfLaplacian::Normalised`],
+    /// [`hourglass_free::normalised_zeta`]); `None` with the paper's constant ζ, another
+    /// method, or before the reference data are built.
+    pub fn laplacian_zeta(&self) -> Option<&[f64]> {
+        (!self.hf_zeta.is_empty()).then_some(&self.hf_zeta[..])
     }
 
     /// Deformation gradients.

@@ -6,7 +6,7 @@ use sph_core::comm::{Communicator, ThreadRanks};
 use sph_core::{Body, Constraint, Constraints, Probe, Solver, D3};
 use sph_geometry::generate::{Aabb, Lattice, ParticleSet};
 use sph_materials::{ElasticConstants, NeoHookean};
-use sph_tl::{distribute, PairStorage, Shear, TlParams, TlSolver};
+use sph_tl::{distribute, HfLaplacian, PairStorage, Shear, TlParams, TlSolver};
 use std::sync::Arc;
 
 const DP: f64 = 0.1;
@@ -24,15 +24,25 @@ fn column_built(
     storage: PairStorage,
     for_ranks: bool,
 ) -> TlSolver<D3, NeoHookean> {
+    let params = TlParams {
+        pair_storage: storage,
+        ..TlParams::default()
+    };
+    column_with(clamped, shear, params, for_ranks)
+}
+
+/// The column with any numerical parameters.
+fn column_with(
+    clamped: bool,
+    shear: Shear,
+    params: TlParams,
+    for_ranks: bool,
+) -> TlSolver<D3, NeoHookean> {
     let shape = Aabb::<D3>::new(DVec3::ZERO, DVec3::new(0.4, 0.4, 1.6)).unwrap();
     let set = ParticleSet::fill(&Lattice::new(DP, DVec3::ZERO).unwrap(), &shape).unwrap();
     let clamp = set.select(|x| x.z < 2.0 * DP);
     let body = Body::from(set).with_velocity(|x| DVec3::new(0.5 * x.z, 0.2 * x.z, 0.0));
     let law = NeoHookean::new(ElasticConstants::from_youngs(2e6, 0.4, 1000.0).unwrap());
-    let params = TlParams {
-        pair_storage: storage,
-        ..TlParams::default()
-    };
     let s = if for_ranks {
         TlSolver::for_ranks(body, law, shear, params).unwrap()
     } else {
@@ -225,6 +235,43 @@ fn one_two_and_three_ranks_end_bit_identical_to_one_process() {
                     storage.name()
                 );
                 assert_same_as_serial(d, &serial, &at);
+            }
+        }
+    }
+}
+
+/// TL-HF with the normalised Laplacian: each rank computes `ζ_i` of its owned particles and
+/// of the halo layer whose rows are complete (built for ranks), or picks them from the whole
+/// body's (cut from a built solver); either way the run ends as the one process, bit for bit.
+#[test]
+fn the_normalised_laplacian_on_ranks_ends_bit_identical_to_one_process() {
+    let shear = Shear::hourglass_free();
+    for storage in [PairStorage::Stored, PairStorage::Recomputed] {
+        let params = TlParams {
+            pair_storage: storage,
+            hf_laplacian: HfLaplacian::Normalised,
+            ..TlParams::default()
+        };
+        let serial = run(&mut column_with(true, shear, params, false));
+        let paper = run(&mut column(true, shear, storage));
+        assert!(
+            serial.positions != paper.positions,
+            "the normalised Laplacian changes the motion"
+        );
+        for ranks in 1..=3 {
+            for for_ranks in [false, true] {
+                let outcomes = ThreadRanks::run(ranks, |comm: Arc<dyn Communicator>| {
+                    let mut s =
+                        distribute(column_with(true, shear, params, for_ranks), comm).unwrap();
+                    run(&mut s)
+                });
+                for (rank, d) in outcomes.iter().enumerate() {
+                    let at = format!(
+                        "normalised on {ranks} ranks ({}, built for ranks: {for_ranks}), rank {rank}",
+                        storage.name()
+                    );
+                    assert_same_as_serial(d, &serial, &at);
+                }
             }
         }
     }

@@ -19,8 +19,8 @@
 
 use clap::{Parser, Subcommand};
 use sph_validation::{
-    contact, extreme, geometry, h5report, impacts, mesh_physics, mps, mps_stab, plot, store, tl,
-    tradeoff, ul, workspace_root,
+    contact, extreme, geometry, h5report, hf_laplacian, impacts, mesh_physics, mps, mps_stab, plot,
+    store, tl, tradeoff, ul, workspace_root,
 };
 use std::fmt::Write as _;
 use std::process::ExitCode;
@@ -127,6 +127,14 @@ enum Command {
         #[arg(long)]
         force: bool,
     },
+    /// TL-HF's Laplacian normalised per particle against the paper's ζ (homogeneous
+    /// compression, the plate against FE, the undamped plate, Lamb's breathing sphere), then
+    /// the report.
+    HfLaplacian {
+        /// Re-run stored runs.
+        #[arg(long)]
+        force: bool,
+    },
     /// Regenerate docs/validation.md from the stored runs.
     Report,
 }
@@ -205,6 +213,12 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
     }
+    if let Command::HfLaplacian { force } = cli.command {
+        if let Err(e) = hf_laplacian::run_all(hf_laplacian::Selection { force }) {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    }
     if cli.plan {
         return ExitCode::SUCCESS;
     }
@@ -244,6 +258,7 @@ fn report() -> Result<(), String> {
     mps_stab::report(&mut md, &figs, "validation")?;
     ul::report(&mut md, &figs, "validation")?;
     extreme::report(&mut md, &figs, "validation")?;
+    hf_laplacian::report(&mut md)?;
     impacts::report(&mut md, &figs, "validation")?;
     contact::report(&mut md)?;
     geometry::report(&mut md)?;

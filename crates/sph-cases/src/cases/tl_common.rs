@@ -8,7 +8,7 @@ use serde_json::{json, Map, Value as Json};
 use sph_core::Body;
 use sph_core::{Dim, Solver};
 use sph_materials::{ElasticConstants, MaterialKind, MaterialModel};
-use sph_tl::{PairStorage, Shear, TlParams, TlSolver};
+use sph_tl::{HfLaplacian, PairStorage, Shear, TlParams, TlSolver};
 
 /// The TL methods.
 pub const TL_METHODS: &[&str] = &["tl-hf", "tl", "tl-gm"];
@@ -29,6 +29,14 @@ pub fn tl_params() -> Vec<Param> {
             "CFL number of TL eq 33",
         ),
         Param::float("zeta", 1.07, Range::Positive, "ζ of TL-HF (eq 27–28)").only(&["tl-hf"]),
+        Param::choice(
+            "laplacian",
+            "paper",
+            &["paper", "normalised"],
+            "ζ of TL-HF's Laplacian: the paper's one value, or normalised per particle from its \
+             reference neighbourhood (then zeta stays at its default)",
+        )
+        .only(&["tl-hf"]),
         Param::float(
             "alpha",
             0.1,
@@ -103,6 +111,7 @@ pub fn tl_numerics(p: &Params) -> TlParams {
         stretch_limited_dt: p.flag("dt_stretch"),
         pair_storage: PairStorage::from_name(p.text("pair_data"))
             .expect("the key's allowed values are the storage names"),
+        hf_laplacian: HfLaplacian::from_name(p.text("laplacian")).unwrap_or_default(),
         ..TlParams::default()
     }
 }

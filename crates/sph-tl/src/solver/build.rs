@@ -4,7 +4,8 @@
 
 use super::{Shear, TlParams, TlSolver, DEFAULT_CONTACT_SCALE};
 use crate::damping::damping_coefficient;
-use crate::reference_pairs::{PairScalar, ReferencePairs};
+use crate::hourglass_free::{normalised_zeta, HfLaplacian};
+use crate::reference_pairs::{with_pair_rows, PairScalar, ReferencePairs};
 use sph_core::correction::correction_matrices_counted;
 use sph_core::neighbor::CellGrid;
 use sph_core::scene::ProbeSchedule;
@@ -102,7 +103,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         body.validate("tl body")?;
         body.reject_densities("tl")?;
         params.validate()?;
-        shear.validate()?;
+        shear.validate(params.hf_laplacian)?;
         let n = body.len();
         let velocities = body.velocities_or_rest();
         let constants = *material.constants();
@@ -151,6 +152,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             plastic: Vec::new(),
             stress: Vec::new(),
             isochoric: Vec::new(),
+            hf_zeta: Vec::new(),
             constraints: Constraints::new(),
             free: vec![true; n],
             loads: Loads::new(),
@@ -217,6 +219,14 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         self.stress = vec![D::zero_matrix(); n];
         self.isochoric = if matches!(self.shear, Shear::HourglassFree { .. }) {
             vec![1.0; n]
+        } else {
+            Vec::new()
+        };
+        self.hf_zeta = if self.params.hf_laplacian == HfLaplacian::Normalised {
+            with_pair_rows!(self.pair_view(), |rows| normalised_zeta::<D>(
+                rows,
+                &self.reference
+            ))
         } else {
             Vec::new()
         };

@@ -135,6 +135,9 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         if !self.isochoric.is_empty() {
             self.isochoric = d.pick(&self.isochoric);
         }
+        if !self.hf_zeta.is_empty() {
+            self.hf_zeta = d.pick(&self.hf_zeta);
+        }
         self.domain = Some(domain);
         Ok(self)
     }
