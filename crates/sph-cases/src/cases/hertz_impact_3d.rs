@@ -15,7 +15,7 @@
 //! sphere toward the wall), linear elastic (`E`, `ν`, `ρ`; TL: Saint Venant–Kirchhoff, the same
 //! law at these strains), `dp = radius/resolution`. The
 //! initial gap between the surfaces is `dp/2` (the surface particles sit `dp/2` inside the
-//! surfaces, so they start `2 dp` apart — the contact density counts only pairs closer than
+//! surfaces, so they start `1.5 dp` apart — the contact density counts only pairs closer than
 //! `dp` — and touch after a short flight). `layout = layers` (default, chosen by measurement:
 //! docs/validation.md) builds the spheres from concentric spherical layers
 //! (`hollow_sphere_polar`, poles on z, away from the contact on the x axis), the right sphere the
