@@ -1,8 +1,9 @@
 //! The Hertz contact verification (`hertz-impact-3d`): two solid spheres, and a sphere on a rigid
 //! wall, against Hertz theory; ENOG at R/dp = 10, 15 and 20 (30 with `--fine`) and two contact
 //! scales κ, OG and OAS beside it at 10 and 20, the lattice layout and the wall for comparison;
-//! the observed order of convergence and the extrapolated limit from the three ENOG
-//! resolutions ([`extrapolate`]).
+//! TL-HF (TL's contact scale κ = 2) and TL at the same resolutions, the first TL/UL comparison
+//! on one contact problem; the observed order of convergence and the extrapolated limit from
+//! the three finest resolutions ([`extrapolate`]).
 
 use crate::frames::p99_value;
 use crate::impacts::{figures_dir, mid_plane, num, sci};
@@ -35,6 +36,15 @@ impl Hertz {
             kappa,
             lattice: false,
             wall: false,
+        }
+    }
+
+    /// A TL run at TL's contact scale (`sph_tl::DEFAULT_CONTACT_SCALE`).
+    fn tl(method: &'static str, res: u32) -> Self {
+        Self {
+            method,
+            kappa: sph_tl::DEFAULT_CONTACT_SCALE,
+            ..Self::enog(res, 1.0)
         }
     }
 
@@ -80,6 +90,13 @@ impl Hertz {
 /// Resolutions of the Hertz convergence series for ENOG (`fine` adds 30).
 const HERTZ_RES: [u32; 4] = [10, 15, 20, 30];
 
+/// Resolutions of the TL-HF and TL series (every one is a run of minutes: TL takes one step
+/// per acoustic step of a fixed reference list).
+const HERTZ_TL_RES: [u32; 3] = [10, 15, 20];
+
+/// The TL methods of the Hertz comparison.
+const HERTZ_TL_METHODS: [&str; 2] = ["tl-hf", "tl"];
+
 fn hertz_runs(fine: bool) -> Vec<Hertz> {
     let mut v = Vec::new();
     for r in HERTZ_RES.into_iter().filter(|&r| fine || r < 30) {
@@ -100,6 +117,17 @@ fn hertz_runs(fine: bool) -> Vec<Hertz> {
         v.push(Hertz {
             wall: true,
             ..Hertz::enog(r, 1.0)
+        });
+    }
+    for method in HERTZ_TL_METHODS {
+        for r in HERTZ_TL_RES {
+            v.push(Hertz::tl(method, r));
+        }
+    }
+    for r in [10, 20] {
+        v.push(Hertz {
+            wall: true,
+            ..Hertz::tl("tl-hf", r)
         });
     }
     v
@@ -207,7 +235,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
     }
     writeln!(
         md,
-        "## UL: Hertz impact of two elastic spheres (contact verification)\n"
+        "## Hertz impact of two elastic spheres (contact verification; UL and TL)\n"
     )
     .unwrap();
     writeln!(
@@ -226,8 +254,14 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
          elastic + contact energy at the end over the initial kinetic energy, − 1; residual: \
          the energy budget's (docs below), with the estimates and with the exactly accumulated \
          works. The wall variant (`target = wall`: a fixed lattice slab) has the same t_c and \
-         F_max in theory. Runtimes were measured on the shared 2-core machine under load \
-         (other jobs running): they are not quiet-machine timings.\n"
+         F_max in theory. TL rows (`tl-hf`, `tl`): each sphere is its own TL body (own \
+         reference configuration, `sph_tl::TlSolver::with_bodies`) and the spheres meet through \
+         TL's contact (`sph_tl::contact`: the same contact density and pressure, with only the \
+         pairs closer than dp carrying force, so U_c is its exact potential) at TL's default \
+         κ = 2; TL keeps no budget, so its residual columns are empty, its energy change is \
+         kinetic + strain + contact energy, and its momentum column is |total momentum| at the \
+         end over m v (UL: the momentum balance). Runtimes were measured on the shared 2-core \
+         machine under load (other jobs running): they are not quiet-machine timings.\n"
     )
     .unwrap();
     writeln!(
@@ -256,7 +290,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
             pct(num(&r, "energy_change")),
             pct(num(&r, "energy_residual")),
             pct(num(&r, "energy_residual_exact_work")),
-            sci(num(&r, "momentum_balance")),
+            sci(num(&r, "momentum_balance").or(num(&r, "momentum_change"))),
             fmt_opt(num(&r, "wall_seconds"), 0),
             sci(num(&r, "particle_steps_per_second")),
         )
@@ -301,10 +335,32 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         }
     }
     for (label, pick) in [
-        ("ENOG κ 1: F_max", Hertz::enog(0, 1.0)),
-        ("ENOG κ 2: F_max", Hertz::enog(0, 2.0)),
+        ("TL-HF κ 2: t_c", Hertz::tl("tl-hf", 0)),
+        ("TL κ 2: t_c", Hertz::tl("tl", 0)),
     ] {
-        let pts: Vec<(f64, f64)> = HERTZ_RES
+        let pts: Vec<(f64, f64)> = HERTZ_TL_RES
+            .iter()
+            .filter_map(|&res| {
+                let r = load(&Hertz { res, ..pick }.id());
+                rel(num(&r, "contact_time"), num(&r, "contact_time_theory"))
+                    .map(|e| (res as f64, 100.0 * e))
+            })
+            .collect();
+        if !pts.is_empty() {
+            conv.push(Series {
+                label: label.into(),
+                points: pts,
+                markers: true,
+            });
+        }
+    }
+    for (label, pick, resolutions) in [
+        ("ENOG κ 1: F_max", Hertz::enog(0, 1.0), &HERTZ_RES[..]),
+        ("ENOG κ 2: F_max", Hertz::enog(0, 2.0), &HERTZ_RES[..]),
+        ("TL-HF κ 2: F_max", Hertz::tl("tl-hf", 0), &HERTZ_TL_RES[..]),
+        ("TL κ 2: F_max", Hertz::tl("tl", 0), &HERTZ_TL_RES[..]),
+    ] {
+        let pts: Vec<(f64, f64)> = resolutions
             .iter()
             .filter_map(|&res| {
                 let r = load(&Hertz { res, ..pick }.id());
@@ -346,6 +402,7 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         .unwrap();
     }
     report_convergence(md);
+    report_tl_ul(md);
     if !conv.is_empty() {
         line_plot(
             &fig_dir.join("impact_hertz_convergence.png"),
@@ -362,10 +419,11 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
     }
     // Force histories against Hertz's.
     let mut curves = Vec::new();
-    for h in runs
-        .iter()
-        .filter(|h| h.method == "ul-enog" && !h.lattice && !h.wall && h.kappa == 1.0)
-    {
+    for h in runs.iter().filter(|h| {
+        let enog = h.method == "ul-enog" && h.kappa == 1.0;
+        let tl_hf = h.method == "tl-hf" && (h.res == 10 || h.res == 20);
+        (enog || tl_hf) && !h.lattice && !h.wall
+    }) {
         if let Some(r) = load(&h.id()) {
             let start = r.num("contact_start").unwrap_or(0.0);
             curves.push(Series {
@@ -392,39 +450,45 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
         });
         line_plot(
             &fig_dir.join("impact_hertz_force.png"),
-            "Hertz impact, ENOG κ = 1: contact force against time from first contact",
+            "Hertz impact, ENOG κ = 1 and TL-HF κ = 2: contact force from first contact",
             "t − t_contact (ms)",
             "F (N)",
             &curves,
         )?;
         writeln!(md, "![Hertz force]({rel_dir}/impact_hertz_force.png)\n").unwrap();
     }
-    let wall: Vec<String> = [10, 20]
-        .iter()
-        .filter_map(|&res| {
-            let w = load(
-                &Hertz {
-                    wall: true,
-                    ..Hertz::enog(res, 1.0)
-                }
-                .id(),
-            )?;
-            let s = load(&Hertz::enog(res, 1.0).id())?;
-            let e = |r: &StoredRun| rel(r.num("contact_time"), r.num("contact_time_theory"));
-            Some(format!(
-                "R/dp = {res}: t_c {} on the wall against {} sphere on sphere",
-                pct(e(&w)),
-                pct(e(&s))
-            ))
-        })
-        .collect();
+    let wall: Vec<String> = [
+        ("ENOG κ 1", Hertz::enog(0, 1.0)),
+        ("TL-HF κ 2", Hertz::tl("tl-hf", 0)),
+    ]
+    .iter()
+    .flat_map(|&(name, pick)| [10, 20].map(|res| (name, Hertz { res, ..pick })))
+    .filter_map(|(name, sphere)| {
+        let w = load(
+            &Hertz {
+                wall: true,
+                ..sphere
+            }
+            .id(),
+        )?;
+        let s = load(&sphere.id())?;
+        let e = |r: &StoredRun| rel(r.num("contact_time"), r.num("contact_time_theory"));
+        Some(format!(
+            "{name}, R/dp = {}: t_c {} on the wall against {} sphere on sphere",
+            sphere.res,
+            pct(e(&w)),
+            pct(e(&s))
+        ))
+    })
+    .collect();
     if !wall.is_empty() {
         writeln!(
             md,
             "**Sphere on a rigid wall.** Theory gives the same t_c and F_max as two spheres, \
              with half the approach δ_max (the wall is the symmetry plane); the contact layer's \
              penetration is about the same, so its share of the approach, and the error, about \
-             doubles: {}.\n",
+             doubles: {}. TL's wall is a fixed TL body (every particle fixed) meeting the \
+             sphere through TL's body contact, as UL's.\n",
             wall.join("; ")
         )
         .unwrap();
@@ -503,19 +567,105 @@ pub fn report(md: &mut String, fig_dir: &Path, rel_dir: &str) -> Result<(), Stri
     Ok(())
 }
 
-/// The ENOG errors against theory at every stored resolution for κ = 1 and 2, the observed
-/// order and extrapolated limit of the finest three ([`extrapolate`]), where there are four
-/// the fit of the coarsest three checked against the fourth, and the 5 % check at the finest.
+/// TL against UL on the same impact, resolution by resolution: TL-HF and TL at TL's κ = 2
+/// beside ENOG at κ = 2 (the same contact scale) and κ = 1 (UL's default), and the coarsest
+/// resolution from which TL-HF is within 5 % of Hertz on both t_c and F_max.
+fn report_tl_ul(md: &mut String) {
+    let rows: Vec<u32> = HERTZ_TL_RES
+        .iter()
+        .copied()
+        .filter(|&r| load(&Hertz::tl("tl-hf", r).id()).is_some())
+        .collect();
+    if rows.is_empty() {
+        return;
+    }
+    let cell = |h: Hertz| {
+        let r = load(&h.id());
+        let t = rel(num(&r, "contact_time"), num(&r, "contact_time_theory"));
+        let f = rel(num(&r, "max_force"), num(&r, "max_force_theory"));
+        (t, f, num(&r, "restitution"), num(&r, "energy_change"))
+    };
+    writeln!(
+        md,
+        "**TL against UL on one contact problem.** The same impact, set-up and layout; t_c and \
+         F_max against theory, restitution e and energy change (kinetic + strain/elastic + \
+         contact at the end, − 1):\n"
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "| R/dp | TL-HF κ 2: t_c, F_max, e, energy | TL κ 2: t_c, F_max, e, energy | ENOG κ 2: t_c, F_max, e, energy | ENOG κ 1: t_c, F_max, e, energy |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|").unwrap();
+    let show = |c: (Option<f64>, Option<f64>, Option<f64>, Option<f64>)| {
+        if c.0.is_none() {
+            return "–".to_string();
+        }
+        format!(
+            "{}, {}, {}, {}",
+            pct(c.0),
+            pct(c.1),
+            fmt_opt(c.2, 4),
+            pct(c.3)
+        )
+    };
+    // The coarsest resolution from which every finer TL-HF run is within 5 % on both.
+    let mut within = None;
+    for &res in &rows {
+        let hf = cell(Hertz::tl("tl-hf", res));
+        let ok = matches!((hf.0, hf.1), (Some(t), Some(f)) if t.abs() <= 0.05 && f.abs() <= 0.05);
+        within = match (ok, within) {
+            (true, None) => Some(res),
+            (true, w) => w,
+            (false, _) => None,
+        };
+        writeln!(
+            md,
+            "| {res} | {} | {} | {} | {} |",
+            show(hf),
+            show(cell(Hertz::tl("tl", res))),
+            show(cell(Hertz::enog(res, 2.0))),
+            show(cell(Hertz::enog(res, 1.0))),
+        )
+        .unwrap();
+    }
+    writeln!(md).unwrap();
+    match within {
+        Some(r) => writeln!(
+            md,
+            "TL-HF is within 5 % of Hertz on both t_c and F_max from R/dp = {r} on (of the \
+             resolutions run).\n"
+        ),
+        None => writeln!(
+            md,
+            "TL-HF is not within 5 % of Hertz on both t_c and F_max at any resolution run.\n"
+        ),
+    }
+    .unwrap();
+}
+
+/// The ENOG errors against theory at every stored resolution for κ = 1 and 2 and TL-HF's
+/// and TL's at κ = 2, the observed order and extrapolated limit of the finest three
+/// ([`extrapolate`]), where there are four the fit of the coarsest three checked against the
+/// fourth, and the 5 % check at the finest.
 fn report_convergence(md: &mut String) {
     let mut lines = Vec::new();
     let mut finest = 0;
+    let series = [
+        ("ENOG", Hertz::enog(0, 1.0), &HERTZ_RES[..]),
+        ("ENOG", Hertz::enog(0, 2.0), &HERTZ_RES[..]),
+        ("TL-HF", Hertz::tl("tl-hf", 0), &HERTZ_TL_RES[..]),
+        ("TL", Hertz::tl("tl", 0), &HERTZ_TL_RES[..]),
+    ];
     for (what, key) in [("t_c", "contact_time"), ("F_max", "max_force")] {
         let theory = format!("{key}_theory");
-        for kappa in [1.0, 2.0] {
-            let errors: Vec<(f64, f64)> = HERTZ_RES
+        for (name, pick, resolutions) in series {
+            let kappa = pick.kappa;
+            let errors: Vec<(f64, f64)> = resolutions
                 .iter()
                 .filter_map(|&res| {
-                    let r = load(&Hertz::enog(res, kappa).id());
+                    let r = load(&Hertz { res, ..pick }.id());
                     rel(num(&r, key), num(&r, &theory)).map(|e| (res as f64, e))
                 })
                 .collect();
@@ -554,7 +704,7 @@ fn report_convergence(md: &mut String) {
             let (res, last) = errors[n - 1];
             finest = finest.max(res as u32);
             lines.push(format!(
-                "{what}, κ {kappa}: {} → {fit}{}; at R/dp = {res} {} 5 %",
+                "{name} {what}, κ {kappa}: {} → {fit}{}; at R/dp = {res} {} 5 %",
                 shown.join(", "),
                 check.unwrap_or_default(),
                 if last.abs() <= 0.05 {
@@ -568,7 +718,7 @@ fn report_convergence(md: &mut String) {
     if lines.is_empty() {
         return;
     }
-    writeln!(md, "**Convergence (ENOG; error against theory):**\n").unwrap();
+    writeln!(md, "**Convergence (error against theory):**\n").unwrap();
     for l in &lines {
         writeln!(md, "- {l}").unwrap();
     }
@@ -576,8 +726,8 @@ fn report_convergence(md: &mut String) {
         md,
         "\nThe fit of `e∞ + C (R/dp)^−p` goes through three points exactly, so a fourth \
          resolution is its only check; the extrapolated limits are not a measurement of the \
-         converged error. The finest stored run is R/dp = {finest}; R/dp = 30 (≈ 230,000 \
-         particles) is `validate impacts --fine`.\n"
+         converged error. The finest stored run is R/dp = {finest}; ENOG's R/dp = 30 (≈ \
+         230,000 particles) is `validate impacts --fine`.\n"
     )
     .unwrap();
 }

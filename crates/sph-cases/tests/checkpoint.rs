@@ -174,6 +174,27 @@ fn ul_contact_with_energy_budget_resumed_run_is_bit_identical() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// Two TL bodies in contact (issue 43): the resumed run carries the contact-force series
+/// `contact_force_<body>` (saved with the state only when the solver has contact).
+#[test]
+fn tl_contact_resumed_run_is_bit_identical() {
+    let dir = resumed_run_is_bit_identical(
+        "tl-contact",
+        &[
+            "run",
+            "hertz-impact-3d",
+            "--method",
+            "tl-hf",
+            "--set",
+            "resolution=4",
+            "--set",
+            "snapshot_interval=0.004",
+        ],
+        "0.006",
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 #[test]
 fn mps_resumed_run_is_bit_identical() {
     let dir = resumed_run_is_bit_identical(

@@ -39,7 +39,7 @@ pub const GRIP_SERIES: &str = "named constraint (grip): `time` (s); `x`, `y`, `z
      body is its negative";
 
 /// The columns of an updated-Lagrangian body's contact-force series.
-pub const CONTACT_SERIES: &str = "body-body contact (UL): `time` (s); `x`, `y`, `z` (3D) the \
+pub const CONTACT_SERIES: &str = "body-body contact (UL, TL): `time` (s); `x`, `y`, `z` (3D) the \
      total contact force the other bodies exert on this body (N; N/m in 2D), at the sample \
      time";
 

@@ -31,6 +31,7 @@
 
 use sph_core::contact::ContactBodies;
 use sph_core::parallel::gather;
+use sph_core::scene::Series;
 use sph_core::{Dim, Error, Kernel, NeighborList, WendlandC2};
 
 /// The stored energy `κ c0² m ρ_c² / (2 ρ0²)` of one particle's contact density (docs/methods.md
@@ -55,7 +56,10 @@ pub(crate) struct TlContact<D: Dim> {
     /// Reference distance beyond which particles of one body may touch (the kernel support).
     reference_cutoff: f64,
     density: Vec<f64>,
+    /// The contact accelerations of the last force evaluation.
     accelerations: Vec<D::Vector>,
+    /// Per body, the series `contact_force_<body>` (the UL series of that name).
+    pub series: Vec<Series>,
 }
 
 impl<D: Dim> TlContact<D> {
@@ -68,6 +72,13 @@ impl<D: Dim> TlContact<D> {
         rho0: f64,
     ) -> Self {
         let n = bodies.body.len();
+        let axes = ["x", "y", "z"];
+        let series = (0..bodies.bodies())
+            .map(|b| {
+                Series::new(&format!("contact_force_{b}"), &axes[..D::D])
+                    .with_description(sph_core::conventions::CONTACT_SERIES)
+            })
+            .collect();
         Self {
             bodies,
             list: NeighborList::default(),
@@ -78,6 +89,26 @@ impl<D: Dim> TlContact<D> {
             reference_cutoff: kernel.cutoff(),
             density: vec![0.0; n],
             accelerations: vec![D::zero(); n],
+            series,
+        }
+    }
+
+    /// Total contact force on each body, `Σ_{i ∈ b} m_i a_c,i`, of the last force evaluation
+    /// (the other bodies' push, and with self-contact the body's own, which sums to zero).
+    pub fn body_forces(&self, masses: &[f64]) -> Vec<D::Vector> {
+        let mut f = vec![D::zero(); self.bodies.bodies()];
+        for ((&b, &a), &m) in self.bodies.body.iter().zip(&self.accelerations).zip(masses) {
+            f[b as usize] += a * m;
+        }
+        f
+    }
+
+    /// Appends one row, the force of [`TlContact::body_forces`], to every body's series.
+    pub fn record(&mut self, time: f64, masses: &[f64]) {
+        let forces = self.body_forces(masses);
+        for (s, f) in self.series.iter_mut().zip(forces) {
+            let row: Vec<f64> = (0..D::D).map(|k| D::component(f, k)).collect();
+            s.push(time, &row);
         }
     }
 

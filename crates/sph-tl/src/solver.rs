@@ -700,8 +700,8 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         ));
         self.update_stretch_extremes();
         self.domain.agree(self.check_finite())?;
-        let recorded = self.series.is_empty() && self.tools.is_empty();
-        if !(self.probes.is_empty() && recorded) && self.schedule.due(self.time) {
+        let nothing = self.series.is_empty() && self.tools.is_empty() && self.contact.is_none();
+        if !(self.probes.is_empty() && nothing) && self.schedule.due(self.time) {
             self.record_probes();
             self.record_series();
         }
@@ -805,10 +805,14 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         &self.probes
     }
 
-    /// The tools' series, then the grips'.
+    /// The tools' series, then the grips', then with several bodies the contact force on each
+    /// body, `contact_force_<body>` ([`TlSolver::with_bodies`]).
     fn series(&self) -> Vec<Series> {
         let mut all = self.tools.series().to_vec();
         all.extend(self.series.iter().cloned());
+        if let Some(c) = &self.contact {
+            all.extend(c.series.iter().cloned());
+        }
         all
     }
 
@@ -845,6 +849,9 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         out.u64s("steps", &[self.steps]);
         save_probes(out, &self.probes);
         save_series(out, &self.series);
+        if let Some(c) = &self.contact {
+            save_series(out, &c.series);
+        }
         self.tools.save(out);
         ReactionMeter::save_all(out, "grip_meters", &self.grip_meters);
         // The plastic history, only for a plastic body (an elastic checkpoint is unchanged).
@@ -886,6 +893,9 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         self.steps = input.u64s("steps", Some(1))?[0];
         restore_probes(input, &mut self.probes)?;
         restore_series(input, &mut self.series)?;
+        if let Some(c) = &mut self.contact {
+            restore_series(input, &mut c.series)?;
+        }
         self.tools.restore(input)?;
         ReactionMeter::restore_all(input, "grip_meters", &mut self.grip_meters)?;
         if !self.plastic.is_empty() {

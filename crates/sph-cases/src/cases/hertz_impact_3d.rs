@@ -2,29 +2,43 @@
 //! colliding head-on, or one sphere hitting a rigid wall, far below the sound speed, compared
 //! with Hertz's quasi-static impact theory ([`hertz_impact`]).
 //!
+//! Methods: the UL family (`ul-enog`, `ul-og`, `ul-oas`, `ul-gnog`) and the TL family (`tl-hf`,
+//! `tl`, `tl-gm`): the first contact problem both families run. UL: one [`sph_ul::UlSolver`]
+//! whose bodies meet through its contact pressure ([`sph_ul::contact`]); TL: one
+//! [`sph_tl::TlSolver`] split into bodies ([`sph_tl::TlSolver::with_bodies`]: each sphere its
+//! own reference configuration) that meet through TL's contact ([`sph_tl::contact`], the same
+//! contact-density law). `contact_stiffness` is the scale `κ` of either: 1 for UL, TL's
+//! measured [`sph_tl::DEFAULT_CONTACT_SCALE`] = 2 for TL unless set ([`Case::params_for`]).
+//! Each family's numerical keys are refused with the other family's methods.
+//!
 //! Spheres of radius `radius`, each moving at `velocity` toward the other along x (or the one
-//! sphere toward the wall), linear elastic (UL: `E`, `ν`, `ρ`), `dp = radius/resolution`. The
+//! sphere toward the wall), linear elastic (`E`, `ν`, `ρ`; TL: Saint Venant–Kirchhoff, the same
+//! law at these strains), `dp = radius/resolution`. The
 //! initial gap between the surfaces is `dp/2` (the surface particles sit `dp/2` inside the
-//! surfaces, so they start `2 dp` apart — the contact density counts only pairs closer than
+//! surfaces, so they start `1.5 dp` apart — the contact density counts only pairs closer than
 //! `dp` — and touch after a short flight). `layout = layers` (default, chosen by measurement:
 //! docs/validation.md) builds the spheres from concentric spherical layers
 //! (`hollow_sphere_polar`, poles on z, away from the contact on the x axis), the right sphere the
 //! mirror image of the left; `lattice` cuts them from a cubic lattice whose cell faces pass
 //! through the centres. The wall is a fixed body (every particle `Fixed`), a lattice slab
-//! `x ∈ [0, 3 dp]` (thicker than the kernel support 2.6 dp) of `1.2 radius` square, meeting the
-//! sphere through the same contact as a second sphere would.
+//! `x ∈ [0, 3 dp]` (thicker than UL's kernel support 2.6 dp, TL's 2.3 dp) of `1.2 radius`
+//! square, meeting the sphere through the same contact as a second sphere would (for TL too: a
+//! fixed TL body, not a rigid tool, so both families meet the wall through their body contact).
 //!
 //! Summary: `contact_time` (the first contact's duration, from the recorded contact force:
 //! exactly zero while no pair interacts, sampled every `t_c/400`), `max_force` (largest contact
 //! force along x), `restitution` (rebound speed / impact speed of the left sphere's centre of
 //! mass at the end), `energy_change` (kinetic + elastic + contact energy at the end over the
-//! initial kinetic energy, − 1: the energy the impact lost), beside the theory's
+//! initial kinetic energy, − 1: the energy the impact lost; UL: its budget's stored terms, TL:
+//! kinetic + strain + contact energy of the last monitor sample), `momentum_change` (two
+//! spheres: |total momentum| at the end over one sphere's `m v`; null on the wall, which takes
+//! momentum), beside the theory's
 //! `contact_time_theory`, `max_force_theory`, `max_compression_theory`, and `velocity_over_c0`.
 //! The end time (key `end_time`, 0 = automatic) is the flight to contact plus `2 t_c`.
 
 use crate::cases::impact_common::{body_velocities, contact_param, contact_summary, layout_param};
-use crate::cases::tl_common::material;
-use crate::cases::ul_common::{run_ul, ul_params, UL_METHODS};
+use crate::cases::tl_common::{material, run_tl, tl_params, TL_METHODS};
+use crate::cases::ul_common::{run_ul, ul_params};
 use crate::error::CaseError;
 use crate::params::{Param, Params, Range};
 use crate::runner::{finite_or_null, RunOptions, RunRecord};
@@ -37,6 +51,12 @@ use sph_materials::{Material, MaterialKind};
 
 /// The Hertz impact.
 pub struct HertzImpact3d;
+
+/// The methods of the Hertz impact: UL's and TL's (the first contact problem both families
+/// run: docs/validation.md).
+pub const HERTZ_METHODS: &[&str] = &[
+    "ul-enog", "ul-og", "ul-oas", "ul-gnog", "tl-hf", "tl", "tl-gm",
+];
 
 /// What a sphere hits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -151,8 +171,22 @@ impl Case for HertzImpact3d {
             name: "hertz-impact-3d",
             description:
                 "two solid elastic spheres (or sphere on a rigid wall) against Hertz theory",
-            methods: UL_METHODS,
+            methods: HERTZ_METHODS,
         }
+    }
+
+    /// TL methods get TL's measured contact scale `contact_stiffness` =
+    /// [`sph_tl::DEFAULT_CONTACT_SCALE`] (UL's is 1).
+    fn params_for(&self, method: &str) -> Params {
+        let mut p = self.params();
+        if TL_METHODS.contains(&method) {
+            p.set_text(
+                "contact_stiffness",
+                &sph_tl::DEFAULT_CONTACT_SCALE.to_string(),
+            )
+            .expect("a positive contact scale");
+        }
+        p
     }
 
     fn params(&self) -> Params {
@@ -184,7 +218,12 @@ impl Case for HertzImpact3d {
             ),
         ];
         specs.extend(crate::runner::output_params());
-        specs.extend(ul_params());
+        // Both families' numerical keys (each marked with its methods); the output keys once.
+        for param in ul_params().into_iter().chain(tl_params()) {
+            if !specs.iter().any(|p| p.key == param.key) {
+                specs.push(param);
+            }
+        }
         Params::new("hertz-impact-3d", specs)
     }
 
@@ -294,6 +333,70 @@ impl Case for HertzImpact3d {
                 1.0
             };
         let body_of_summary = body_of.clone();
+        let summarise = move |s: &dyn Solver<D3>, record: &RunRecord| {
+            let mut m = contact_summary(s, 0, DVec3::X);
+            let duration = m.get("contact_duration").and_then(Json::as_f64);
+            m.insert(
+                "contact_time".into(),
+                duration.map_or(Json::Null, |t| json!(t)),
+            );
+            let f = m.get("contact_force_max").and_then(Json::as_f64);
+            m.insert("max_force".into(), f.map_or(Json::Null, finite_or_null));
+            m.insert("contact_time_theory".into(), json!(theory.contact_time));
+            m.insert("max_force_theory".into(), json!(theory.max_force));
+            m.insert(
+                "max_compression_theory".into(),
+                json!(theory.max_compression),
+            );
+            let vb = body_velocities(s, &body_of_summary, &volumes, 2);
+            m.insert("restitution".into(), finite_or_null(-vb[0].x / v));
+            // Two equal spheres: the total momentum stays 0 (the wall takes momentum).
+            let momentum = match target {
+                HertzTarget::Sphere => finite_or_null((vb[0] + vb[1]).length() / v),
+                HertzTarget::Wall => Json::Null,
+            };
+            m.insert("momentum_change".into(), momentum);
+            m.insert("velocity_over_c0".into(), json!(v / c0));
+            m.insert("sphere_particles".into(), json!(nl));
+            // UL: the budget's stored terms; TL (no budget): kinetic + strain, whose strain
+            // part carries the contact energy (`Solver::energies` of TL).
+            let stored = match record.monitor.last() {
+                Some(x) => match &x.budget {
+                    Some(b) => Some(
+                        ["kinetic", "volumetric", "shear", "contact"]
+                            .iter()
+                            .filter_map(|k| b.get(k))
+                            .sum::<f64>(),
+                    ),
+                    None => Some(x.kinetic + x.strain),
+                },
+                None => None,
+            };
+            if let Some(stored) = stored {
+                m.insert("energy_change".into(), finite_or_null(stored / ke0 - 1.0));
+            }
+            m
+        };
+        let kappa = p.f64("contact_stiffness");
+        if TL_METHODS.contains(&method) {
+            return run_tl(
+                "hertz-impact-3d",
+                method,
+                p,
+                body,
+                mat,
+                |s| {
+                    let s = s
+                        .with_bodies(body_of)?
+                        .with_contact_scale(kappa)?
+                        .with_constraints(constraints);
+                    Ok(s.with_probes(Vec::new(), interval)?)
+                },
+                end,
+                options,
+                summarise,
+            );
+        }
         run_ul(
             "hertz-impact-3d",
             method,
@@ -306,34 +409,7 @@ impl Case for HertzImpact3d {
             },
             end,
             options,
-            move |s: &dyn Solver<D3>, record: &RunRecord| {
-                let mut m = contact_summary(s, 0, DVec3::X);
-                let duration = m.get("contact_duration").and_then(Json::as_f64);
-                m.insert(
-                    "contact_time".into(),
-                    duration.map_or(Json::Null, |t| json!(t)),
-                );
-                let f = m.get("contact_force_max").and_then(Json::as_f64);
-                m.insert("max_force".into(), f.map_or(Json::Null, finite_or_null));
-                m.insert("contact_time_theory".into(), json!(theory.contact_time));
-                m.insert("max_force_theory".into(), json!(theory.max_force));
-                m.insert(
-                    "max_compression_theory".into(),
-                    json!(theory.max_compression),
-                );
-                let vb = body_velocities(s, &body_of_summary, &volumes, 2);
-                m.insert("restitution".into(), finite_or_null(-vb[0].x / v));
-                m.insert("velocity_over_c0".into(), json!(v / c0));
-                m.insert("sphere_particles".into(), json!(nl));
-                if let Some(b) = record.monitor.last().and_then(|x| x.budget.as_ref()) {
-                    let stored: f64 = ["kinetic", "volumetric", "shear", "contact"]
-                        .iter()
-                        .filter_map(|k| b.get(k))
-                        .sum();
-                    m.insert("energy_change".into(), finite_or_null(stored / ke0 - 1.0));
-                }
-                m
-            },
+            summarise,
         )
     }
 }

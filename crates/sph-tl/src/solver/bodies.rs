@@ -16,7 +16,9 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     /// Splits the particles into bodies, `body[i]` the body of particle `i` (indices from 0):
     /// each body becomes its own reference configuration (its reference neighbours, kernel
     /// sums and correction matrices never reach another body) and bodies touch through the
-    /// contact of [`crate::contact`]. All bodies share the solver's material. Call before the
+    /// contact of [`crate::contact`]. All bodies share the solver's material. The contact force
+    /// on each body is recorded with the probes as the series `contact_force_<body>` (columns
+    /// `x`, `y` (, `z`), as UL's [`sph_core::conventions::CONTACT_SERIES`]). Call before the
     /// first step; one body (all indices equal) is today's solver plus nothing.
     ///
     /// # Errors

@@ -28,10 +28,14 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         self.record_grip_series();
     }
 
-    /// Appends one row to every series: tools' travel, mean reactions since the last row.
+    /// Appends one row to every series: tools' travel, mean reactions since the last row,
+    /// the contact force on every body.
     pub(super) fn record_series(&mut self) {
         self.tools.record(self.time);
         self.record_grip_series();
+        if let Some(c) = &mut self.contact {
+            c.record(self.time, &self.masses);
+        }
     }
 
     /// Appends one row to every grip's series: mean position, mean reaction since the last row.
