@@ -1,12 +1,10 @@
 //! The Taylor bar (`taylor-bar-3d`) at a coarse resolution (3 particles across the radius,
-//! 840 particles) over the reference's 80 µs, so the file runs in seconds in a dev build: the
-//! physics every resolution must show. The comparison with the published final length and
-//! radius is at finer resolutions (the case's docs).
+//! 840 particles per bar) over the reference's 80 µs, so the file runs in seconds in a dev
+//! build: the physics every resolution must show. The comparison with the published final
+//! length and radius at finer resolutions is in the case's docs.
 //!
-//! Measured here (R/dp = 3, the reference set-up): L_f/L0 = 0.847 (GNOG), 0.839 (OG), 0.838
-//! (OAS); R_f/R0 = 1.31, 1.40, 1.43; plastic work 0.84, 0.67, 0.72 of the initial kinetic
-//! energy; budget residual +0.33, +0.091, +0.081 of it; momentum lost to the wall's impulse
-//! 4.4e-2 (GNOG), 5.7e-16 (OG), 3.8e-16 (OAS) of the initial momentum.
+//! Measured here (R/dp = 3, release build, one thread, the reference set-up with the defaults:
+//! mirror wall, `riemann = limited-no-jump`, `gnog_xi = 0.2`): see each test's docs.
 
 use sph_cases::{find_case, RunOptions};
 
@@ -25,35 +23,43 @@ fn f(s: &serde_json::Map<String, serde_json::Value>, key: &str) -> f64 {
     s[key].as_f64().unwrap_or(f64::NAN)
 }
 
-/// The bar shortens by more than 10 % and its struck end spreads by more than 20 % (both
-/// measured ≥ 15 % and ≥ 31 %), plastic work takes more than half of the kinetic energy
-/// (measured ≥ 0.67) and the bar ends nearly at rest (< 2 % of it kinetic). The budget closes
-/// within 15 % of the initial kinetic energy for OG and OAS (measured 9 %, 8 %: the rest is
-/// the residual of the discrete plastic and Riemann works) and within 40 % for GNOG (measured
-/// 33 %; GNOG's spin-rotated penalty is neither energy- nor momentum-conserving at the foot).
-/// The momentum the bar loses is the wall's impulse to round-off for OG and OAS (every pair
-/// force is antisymmetric; measured 6e-16) and within 6 % for GNOG (measured 4.4 %, the
-/// penalty's per-particle rotation).
+/// With the defaults (the bar and its mirror image, one body, so that the mid-plane is the
+/// reference's wall that holds the face axially and lets it slide radially) the bar shortens
+/// and spreads, plastic work takes most of the kinetic energy and the bar ends nearly at rest.
+/// Measured (R/dp 3): L_f −2.0 % (GNOG), −2.8 % (OG), −5.4 % (OAS) from the reference's
+/// 26.55 mm; R_f +0.2 %, +6.0 %, +22.6 % from its 5.61 mm; plastic work 1.17, 0.95, 1.71 of
+/// KE0; budget residual +0.253 (GNOG: its spin-rotated penalty is not energy-conserving),
+/// −0.003 (OG: every term exactly accumulated, no wall contact), +0.021 (OAS; its artificial
+/// stress does work 1.47 times KE0 here, so its plastic work exceeds KE0 with the budget
+/// closed); final kinetic energy ≤ 0.42 % of KE0; the bar and its image keep zero total
+/// momentum to round-off (≤ 2.2e-15 of the bar's: a check of the symmetry, which holds
+/// whether or not a method conserves momentum). Tolerances: GNOG's length and radius within
+/// 5 % of the reference at this resolution (length within 1.5 %, radius within 4.4 % at R/dp
+/// 4, 6 and 8);
+/// OG and OAS, which have no hourglass control once the Riemann dissipation is limited,
+/// spread wider than the reference (up to 30 %) with the length within 8 %; the budget closes
+/// within 2 % (OG), 5 % (OAS), 35 % (GNOG).
 #[test]
 fn the_bar_shortens_spreads_and_dissipates_into_plastic_work() {
     let (l0, r0) = (32.4e-3, 3.2e-3);
-    for (method, energy_tol, momentum_tol) in [
-        ("ul-gnog", 0.4, 0.06),
-        ("ul-og", 0.15, 1e-9),
-        ("ul-oas", 0.15, 1e-9),
-    ] {
+    for (method, energy_tol) in [("ul-gnog", 0.35), ("ul-og", 0.02), ("ul-oas", 0.05)] {
         let s = run(method, &[]);
         let ke0 = f(&s, "kinetic_energy_initial");
-        // ½ ρ π R² L v² of the reference bar.
+        // ½ ρ π R² L v² of the reference bar (one bar, not bar and image).
         let theory = 0.5 * 7830.0 * std::f64::consts::PI * r0 * r0 * l0 * 287.0 * 287.0;
         assert!(
             (ke0 / theory - 1.0).abs() < 1e-9,
             "{method}: {ke0} vs {theory}"
         );
+        let (le, re) = (f(&s, "final_length_error"), f(&s, "final_radius_error"));
+        if method == "ul-gnog" {
+            assert!(le.abs() < 0.05 && re.abs() < 0.05, "{method}: {s:?}");
+        } else {
+            assert!(le.abs() < 0.08 && re > 0.0 && re < 0.3, "{method}: {s:?}");
+        }
         assert!(f(&s, "final_length") < 0.9 * l0, "{method}: {s:?}");
-        assert!(f(&s, "final_length") > 0.5 * l0, "{method}: {s:?}");
-        assert!(f(&s, "final_radius") > 1.2 * r0, "{method}: {s:?}");
-        assert!(f(&s, "plastic_work") > 0.5 * ke0, "{method}: {s:?}");
+        assert!(f(&s, "final_radius") > 1.5 * r0, "{method}: {s:?}");
+        assert!(f(&s, "plastic_work") > 0.8 * ke0, "{method}: {s:?}");
         assert!(
             f(&s, "kinetic_energy_final") < 0.02 * ke0,
             "{method}: {s:?}"
@@ -63,19 +69,46 @@ fn the_bar_shortens_spreads_and_dissipates_into_plastic_work() {
             f(&s, "energy_balance").abs() < energy_tol,
             "{method}: {s:?}"
         );
+        // No tool: the wall does no work; the mid-plane passes the bar's momentum.
+        assert_eq!(f(&s, "wall_work"), 0.0, "{method}");
         assert!(f(&s, "wall_impulse") < 0.0, "{method}: {s:?}");
         assert!(
-            f(&s, "momentum_balance_wall") < momentum_tol,
+            f(&s, "momentum_balance_wall") < 1e-12,
             "{method}: {}",
             f(&s, "momentum_balance_wall")
         );
-        assert!(f(&s, "max_plastic_strain") > 0.3, "{method}: {s:?}");
+        assert!(f(&s, "max_plastic_strain") > 0.5, "{method}: {s:?}");
         // Adiabatic heating from 293.15 K.
-        assert!(f(&s, "max_temperature") > 350.0, "{method}: {s:?}");
+        assert!(f(&s, "max_temperature") > 500.0, "{method}: {s:?}");
         // The defaults are the reference set-up.
         assert_eq!(f(&s, "final_length_reference"), 26.55e-3);
         assert_eq!(f(&s, "final_radius_reference"), 5.61e-3);
     }
+}
+
+/// The old set-up — the wall a half-space tool, the UL family's Riemann default
+/// (`sphinxsys-tests`, β = 1) — is kept as options. With the tool the momentum the bar loses
+/// is the wall's impulse to round-off (OG: every pair force is antisymmetric; measured
+/// 9.5e-16) and the tool takes energy (its contact work is negative). β = 1 shrinks the
+/// mushroom: measured R_f 4.49 mm against 5.84 mm with the limiter (both with the tool), the
+/// dissipative pressure ½ ρ0 c0 |u_ij| of separating pairs resisting the radial flow of the
+/// struck end. Tolerance: β = 1's radius below 0.85 of the limiter's.
+#[test]
+fn the_tool_wall_conserves_momentum_and_full_riemann_dissipation_shrinks_the_mushroom() {
+    let limited = run("ul-og", &["wall=tool"]);
+    let full = run("ul-og", &["wall=tool", "riemann=sphinxsys-tests"]);
+    for s in [&limited, &full] {
+        assert!(f(s, "momentum_balance_wall") < 1e-9, "{s:?}");
+        assert!(f(s, "wall_impulse") < 0.0, "{s:?}");
+        assert!(f(s, "wall_work") < 0.0, "{s:?}");
+        assert!(f(s, "riemann_dissipated") > 0.0, "{s:?}");
+    }
+    let (rl, rf) = (f(&limited, "final_radius"), f(&full, "final_radius"));
+    assert!(rf < 0.85 * rl, "β = 1: {rf}, limiter: {rl}");
+    assert!(
+        f(&full, "riemann_dissipated") > 3.0 * f(&limited, "riemann_dissipated"),
+        "{full:?}"
+    );
 }
 
 /// Another set-up has no published reference; a J2 bar spreads too; a constant of the other
@@ -106,7 +139,8 @@ fn other_setups_have_no_reference_and_bad_input_is_refused() {
 }
 
 /// TL (`tl`, `tl-gm`: the finite-strain exponential-map return on a Hencky law, the wall a
-/// half-space tool) at the same resolution as UL. Measured (R/dp = 3, the reference set-up):
+/// half-space tool) at the same resolution as UL. Measured (R/dp = 3, the reference set-up
+/// with `wall = tool` and for UL-OG `riemann = sphinxsys-tests`, in which these were measured):
 /// L_f = 28.31 mm (tl), 28.33 mm (tl-gm) against UL-OG's 27.19 mm (+4.1 %, +4.2 %); R_f =
 /// 3.85, 3.80 mm against 4.49 mm; plastic work 0.80, 0.90 of KE0 (UL-OG 0.67); momentum lost
 /// = wall impulse to 6e-16, 1e-15. Tolerances: the final length within 8 % of UL-OG's at this
@@ -116,10 +150,11 @@ fn other_setups_have_no_reference_and_bad_input_is_refused() {
 #[test]
 fn tl_bar_shortens_like_ul_og() {
     let (l0, r0) = (32.4e-3, 3.2e-3);
-    let ul = run("ul-og", &[]);
+    // The set-up these were measured in: the tool wall, β = 1 for UL.
+    let ul = run("ul-og", &["wall=tool", "riemann=sphinxsys-tests"]);
     let l_ul = f(&ul, "final_length");
     for method in ["tl", "tl-gm"] {
-        let s = run(method, &[]);
+        let s = run(method, &["wall=tool"]);
         let (lf, rf) = (f(&s, "final_length"), f(&s, "final_radius"));
         let ke0 = f(&s, "kinetic_energy_initial");
         println!(
