@@ -32,6 +32,9 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
     pub(super) fn record_series(&mut self) {
         self.tools.record(self.time);
         self.record_grip_series();
+        if let Some(f) = &mut self.contact_friction {
+            f.record(self.time);
+        }
     }
 
     /// Appends one row to every grip's series: mean position, mean reaction since the last row.
