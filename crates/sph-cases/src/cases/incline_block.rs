@@ -26,6 +26,19 @@
 //! the fraction of the contacting particles that stuck in the last step and its mean over the
 //! probe samples; and the tools' `tool_contact_work`, `friction_work` and
 //! `friction_dissipated`.
+//!
+//! With `floor = "body"` (TL and UL methods) the floor is a fixed slab body instead of the
+//! tool, meeting the block through the body-body contact with the friction of
+//! [`sph_core::contact_friction`] (`floor_refinement`: the slab's spacing is dp divided by it);
+//! `acceleration` is then the parabola fit of the block's mean position after the ramp, the
+//! summary adds `contact_friction_work`, `gravity_impulse` and (UL) `gravity_impulse_error`,
+//! and `sticking_*` come from the series `contact_friction_0`. Measured at θ = 30°, μ_s = 0.4,
+//! μ_k = 0.3 (end 0.3 s): the friction force is μ_k times the normal force within 1 %, but the
+//! block slides slower than the rigid answer by the drag of the particle floor's roughness,
+//! UL-ENOG −20 % / −9.8 % at resolution 10 / 20 (slab of the block's spacing; frictionless:
+//! −0.04 % on a twice finer slab), TL-HF −7.4 % / −4.5 % on a twice finer slab (TL's
+//! contact, pairs closer than dp only, is rougher: frictionless −39 % on a slab of the block’s
+//! spacing, −0.9 % on a twice finer one). It sticks at θ = 15°, μ_s = 0.6.
 
 use crate::cases::mps_common::{mps_params, run_mps, MPS_METHODS};
 use crate::cases::tl_common::{material, run_tl, tl_params};
