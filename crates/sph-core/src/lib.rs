@@ -60,6 +60,7 @@ pub mod body;
 pub mod budget;
 pub mod comm;
 pub mod contact;
+pub mod contact_friction;
 pub mod conventions;
 pub mod correction;
 pub mod decomposition;

@@ -8,6 +8,7 @@ use crate::spec::{
 };
 use glam::{DVec2, DVec3};
 use serde_json::{json, Map, Value as Json};
+use sph_core::contact_friction::FrictionTable;
 use sph_core::error::Num;
 use sph_core::friction::Friction;
 use sph_core::pressure::{PressureFunction, SurfacePressure};
@@ -482,7 +483,7 @@ impl Scene {
         };
         let keys = Keys::new(numerics_table);
         let multi = ranges.len() > 1;
-        let self_contacts = self.contacts(&ranges, method)?;
+        let (self_contacts, contact_friction) = self.contacts(&ranges, method)?;
         let schedule = self.schedule(end_time)?;
         let mut meta = Map::new();
         meta.insert("case".into(), json!(self.name));
@@ -553,8 +554,13 @@ impl Scene {
                     }
                 }
                 let names: Vec<&str> = names.iter().map(String::as_str).collect();
-                drive(solver, meta.clone(), schedule, &names, options, |_, _| {
-                    Map::new()
+                // Friction between bodies: its work (only then: other summaries unchanged).
+                drive(solver, meta.clone(), schedule, &names, options, |s, _| {
+                    s.figures()
+                        .into_iter()
+                        .filter(|(name, _)| *name == "contact_friction_work")
+                        .map(|(name, w)| (name.to_string(), json!(w)))
+                        .collect()
                 })
                 .map_err(|e| self.driver(e))
             };
@@ -646,6 +652,11 @@ impl Scene {
                     s = s.with_contact_scale(contact_scale).map_err(|e| {
                         self.core(numerics_span.clone(), "numerics.contact_scale", e)
                     })?;
+                }
+                if let Some(table) = contact_friction.clone() {
+                    s = s
+                        .with_contact_friction(table)
+                        .map_err(|e| self.core(spec.contacts[0].span(), "contact", e))?;
                 }
                 if let Some(law) = plastic {
                     s = s
@@ -790,6 +801,11 @@ impl Scene {
                         .with_contact(body_of)
                         .map_err(|e| self.core(spec.bodies[1].span(), "body", e))?;
                 }
+                if let Some(table) = contact_friction.clone() {
+                    s = s
+                        .with_contact_friction(table)
+                        .map_err(|e| self.core(spec.contacts[0].span(), "contact", e))?;
+                }
                 let mut s = s
                     .with_tools(tools)
                     .map_err(|e| self.tool_error(e))?
@@ -876,30 +892,59 @@ impl Scene {
         }
     }
 
-    /// The `[[contact]]` tables: the self-contacts (body index and span) they ask for. Two
-    /// names are the body–body contact every multi-body run has anyway; one name is a
-    /// self-contact (TL methods); friction is not built yet.
+    /// The `[[contact]]` tables: the self-contacts (body index and span) they ask for, and the
+    /// Coulomb friction table when any table has `friction_static`/`friction_kinetic` (TL and
+    /// UL methods; one coefficient given: the other is the same, as on a tool). Two names are
+    /// the body–body contact every multi-body run has anyway; one name is a self-contact (TL
+    /// methods).
+    #[allow(clippy::type_complexity)]
     fn contacts(
         &self,
         ranges: &[(String, Range<usize>)],
         method: &str,
-    ) -> Result<Vec<(u32, Range<usize>)>, SceneError> {
+    ) -> Result<(Vec<(u32, Range<usize>)>, Option<FrictionTable>), SceneError> {
         let mut out = Vec::new();
+        let mut table: Option<FrictionTable> = None;
         for (k, c) in self.spec.contacts.iter().enumerate() {
             let (span, spec) = (c.span(), c.get_ref());
             let at = |key| format!("contact[{k}].{key}");
-            if spec.friction_static.is_some() || spec.friction_kinetic.is_some() {
+            let friction = if spec.friction_static.is_some() || spec.friction_kinetic.is_some() {
                 let key = if spec.friction_static.is_some() {
                     "friction_static"
                 } else {
                     "friction_kinetic"
                 };
-                return Err(self.error(
-                    span,
-                    &at(key),
-                    "friction between bodies is not built yet (frictionless contact only)",
-                ));
-            }
+                if !matches!(family_of(method), Some(Family::Tl | Family::Ul)) {
+                    return Err(self.error(
+                        span,
+                        &at(key),
+                        format!(
+                            "friction between bodies is built for the TL and UL methods, not {method}"
+                        ),
+                    ));
+                }
+                let mu_s = spec
+                    .friction_static
+                    .or(spec.friction_kinetic)
+                    .unwrap_or(0.0);
+                let mu_k = spec
+                    .friction_kinetic
+                    .or(spec.friction_static)
+                    .unwrap_or(0.0);
+                Some(Friction::new(mu_s, mu_k).map_err(|e| {
+                    let name = match &e {
+                        sph_core::Error::InvalidParameter { field, .. }
+                            if field == "friction_kinetic" =>
+                        {
+                            "friction_kinetic"
+                        }
+                        _ => "friction_static",
+                    };
+                    self.error(span.clone(), &at(name), e.to_string())
+                })?)
+            } else {
+                None
+            };
             if spec.bodies.is_empty() || spec.bodies.len() > 2 {
                 return Err(self.error(
                     span,
@@ -921,6 +966,13 @@ impl Scene {
                 };
                 ids.push(b as u32);
             }
+            if let Some(f) = friction {
+                let (a, b) = (ids[0], *ids.last().expect("one or two names"));
+                table
+                    .get_or_insert_with(|| FrictionTable::new(ranges.len()))
+                    .set(a, b, f)
+                    .map_err(|e| self.error(span.clone(), &at("bodies"), e.to_string()))?;
+            }
             if ids.len() == 1 || ids[0] == ids[1] {
                 if family_of(method) != Some(Family::Tl) {
                     return Err(self.error(
@@ -934,7 +986,7 @@ impl Scene {
                 out.push((ids[0], span));
             }
         }
-        Ok(out)
+        Ok((out, table))
     }
 
     fn core(&self, span: Range<usize>, key: &str, e: sph_core::Error) -> SceneError {

@@ -162,8 +162,8 @@ pub fn keys() -> Vec<KeyDoc> {
         k("tool[].friction_kinetic", "number", "`friction_static`, else 0", "all", "kinetic Coulomb coefficient 0 ≤ μ_k ≤ μ_s: a sliding particle is slowed by μ_k times the normal impulse; the series gains `friction_x`, `friction_y` (, `friction_z`) and `sticking`, the summary `tool_contact_work`, `friction_work`, `friction_dissipated`"),
         // Relaxation.
         k("contact[].bodies", "[string]", "required", "all", "two body names: their contact (on anyway between deformable bodies); one name: that body's self-contact (TL methods: particles farther apart than the kernel support in the reference touch when closer than dp)"),
-        k("contact[].friction_static", "number", "—", "none", "not built yet (refused)"),
-        k("contact[].friction_kinetic", "number", "—", "none", "not built yet (refused)"),
+        k("contact[].friction_static", "number", "`friction_kinetic`, else 0", "TL, UL", "static Coulomb coefficient μ_s ≥ 0 between the named bodies (one name: within the body's self-contact, TL): a contact pair sticks while the impulse that stops its tangential slip (its reduced mass over the larger count of frictional pairs of its two particles) is within μ_s times its normal impulse (contact force × Δt)"),
+        k("contact[].friction_kinetic", "number", "`friction_static`, else 0", "TL, UL", "kinetic Coulomb coefficient 0 ≤ μ_k ≤ μ_s: a sliding pair receives μ_k times its normal impulse against its slip; the series gain `contact_friction_<b>` per body (`x`, `y` (, `z`) the mean friction force on body b, `sticking`), the summary `contact_friction_work`, UL's energy budget the term `contact_friction`"),
         k("relaxation.beta", "number", "1", "TL", "β of the pairwise damping η = (β/4)√(ρ0 E) L"),
         k("relaxation.length", "number", "required", "TL", "L, the body's size along the load (m)"),
         // Shapes.

@@ -1,6 +1,8 @@
 //! TL scenes with several bodies and `[[contact]]` (issue 43): two TL discs run and rebound
-//! through the contact with momentum conserved; self-contact takes one body name; friction,
-//! unknown names and self-contact outside TL are one-line errors naming the key.
+//! through the contact with momentum conserved; self-contact takes one body name; friction
+//! between bodies runs for TL and UL (and reports its work and series); bad coefficients,
+//! friction for MPS, unknown names and self-contact outside TL are one-line errors naming the
+//! key.
 
 use sph_driver::RunOptions;
 use sph_scene::Scene;
@@ -62,10 +64,34 @@ fn contact_tables_are_checked_in_one_line() {
         (
             scene(
                 "tl-hf",
-                "[[contact]]\nbodies = [\"left\"]\nfriction_static = 0.3",
+                "[[contact]]\nbodies = [\"left\", \"right\"]\nfriction_static = -0.3",
             ),
             "contact[0].friction_static",
-            "not built yet",
+            ">= 0",
+        ),
+        (
+            scene(
+                "ul-enog",
+                "[[contact]]\nbodies = [\"left\", \"right\"]\nfriction_static = 0.2\nfriction_kinetic = 0.3",
+            ),
+            "contact[0].friction_kinetic",
+            "<= friction_static",
+        ),
+        (
+            scene(
+                "tl",
+                "[[contact]]\nbodies = [\"left\", \"right\"]\nfriction_static = 0.5\nfriction_kinetic = inf",
+            ),
+            "contact[0].friction_kinetic",
+            "finite",
+        ),
+        (
+            scene(
+                "mps",
+                "[[contact]]\nbodies = [\"left\", \"right\"]\nfriction_static = 0.3",
+            ),
+            "contact[0].friction_static",
+            "built for the TL and UL methods, not mps",
         ),
         (
             scene("tl-hf", "[[contact]]\nbodies = [\"middle\"]"),
@@ -100,4 +126,30 @@ fn self_contact_by_one_name_runs() {
     let s = Scene::parse(&text, "s.toml", Path::new("."), "s").unwrap();
     let (record, _) = s.run(&RunOptions::default()).unwrap();
     assert!(record.failure.is_none(), "{:?}", record.failure);
+}
+
+/// Discs meeting off-centre (a tangential slip at the contact) with friction between them:
+/// TL and UL run, report `contact_friction_work` (≤ 0: the friction dissipates) and the
+/// series `contact_friction_<b>`, and keep the momentum of the pair (no external force).
+#[test]
+fn friction_between_bodies_runs_for_tl_and_ul() {
+    for method in ["tl-hf", "ul-enog"] {
+        let text = scene(
+            method,
+            "[[contact]]\nbodies = [\"left\", \"right\"]\nfriction_static = 0.5\nfriction_kinetic = 0.4",
+        )
+        .replace("centre = [-0.04375, 0.0]", "centre = [-0.04375, -0.02]")
+        .replace("end_time = 6e-3", "end_time = 3e-3");
+        let text = if method.starts_with("ul") {
+            text.replace("damping = false", "energy_budget = true")
+        } else {
+            text
+        };
+        let s = Scene::parse(&text, "s.toml", Path::new("."), "s").unwrap();
+        let (record, summary) = s.run(&RunOptions::default()).unwrap();
+        assert!(record.failure.is_none(), "{method}: {:?}", record.failure);
+        let work = summary["contact_friction_work"].as_f64().unwrap();
+        eprintln!("{method}: contact_friction_work {work:.3e}");
+        assert!(work < 0.0, "{method}: {work}");
+    }
 }

@@ -30,6 +30,7 @@
 //! solver has several bodies or a self-contact: a one-body solver pays nothing.
 
 use sph_core::contact::ContactBodies;
+use sph_core::contact_friction::ContactFriction;
 use sph_core::parallel::gather;
 use sph_core::scene::Series;
 use sph_core::{Dim, Error, Kernel, NeighborList, WendlandC2};
@@ -158,6 +159,44 @@ impl<D: Dim> TlContact<D> {
             .zip(&self.accelerations)
             .for_each(|(o, &a)| *o += a);
         Ok(())
+    }
+
+    /// The Coulomb friction pass of [`sph_core::contact_friction`] over the contact pairs of
+    /// the last detection, at the positions of that force evaluation: each pair's normal force
+    /// is the magnitude of its contact force `−(p_c,i + p_c,j) V_i V_j W′(r)` along
+    /// `e_ij = (x_i − x_j)/r`. Returns the momentum change.
+    #[allow(clippy::too_many_arguments)]
+    pub fn apply_friction(
+        &self,
+        friction: &mut ContactFriction<D>,
+        positions: &[D::Vector],
+        velocities: &mut [D::Vector],
+        masses: &[f64],
+        volumes: &[f64],
+        free: &[bool],
+        kernel: &WendlandC2<D>,
+        dt: f64,
+    ) -> D::Vector {
+        let (rho_c, k) = (&self.density, self.stiffness);
+        let normal = |i: usize, _: usize, j: usize| {
+            let d = positions[i] - positions[j];
+            let r = D::norm(d);
+            if r <= 0.0 {
+                return (D::zero(), 0.0);
+            }
+            let p = k * rho_c[i] + k * rho_c[j];
+            (d / r, -(p * (volumes[i] * volumes[j]) * kernel.dw_dr(r)))
+        };
+        friction.apply(
+            &self.list,
+            &self.bodies.body,
+            normal,
+            &self.accelerations,
+            velocities,
+            masses,
+            free,
+            dt,
+        )
     }
 
     /// Sets the scale `κ` of the contact stiffness `κ c0²`.

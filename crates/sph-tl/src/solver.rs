@@ -275,6 +275,8 @@ pub struct TlSolver<D: Dim, M: Material<D>> {
     contact: Option<crate::contact::TlContact<D>>,
     /// The contact stiffness scale `κ` ([`TlSolver::with_contact_scale`]).
     contact_scale: f64,
+    /// Coulomb friction on the contact pairs (`None`: frictionless).
+    contact_friction: Option<sph_core::contact_friction::ContactFriction<D>>,
 }
 
 impl<D: Dim, M: Material<D>> TlSolver<D, M> {
@@ -659,6 +661,21 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
             #[inline(always)]
             |i, v| *v += acc[i] * dt,
         );
+        // Coulomb friction on the contact pairs (a constrained component is then restored).
+        if let (Some(friction), Some(contact)) = (&mut self.contact_friction, &self.contact) {
+            contact.apply_friction(
+                friction,
+                &self.positions,
+                &mut self.velocities,
+                &self.masses,
+                &self.volumes,
+                &self.free,
+                &self.kernel,
+                dt,
+            );
+            self.constraints
+                .apply_to_velocities(self.time + dt, &mut self.velocities);
+        }
         // Contact with the tools, then the quasi-static relaxation of the
         // admissible velocities, then contact again if the relaxation ran (it may have pulled a
         // touching particle toward a tool). Relaxing before the contact would spread the
@@ -700,7 +717,10 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         ));
         self.update_stretch_extremes();
         self.domain.agree(self.check_finite())?;
-        let nothing = self.series.is_empty() && self.tools.is_empty() && self.contact.is_none();
+        let nothing = self.series.is_empty()
+            && self.tools.is_empty()
+            && self.contact.is_none()
+            && self.contact_friction.is_none();
         if !(self.probes.is_empty() && nothing) && self.schedule.due(self.time) {
             self.record_probes();
             self.record_series();
@@ -813,13 +833,21 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         if let Some(c) = &self.contact {
             all.extend(c.series.iter().cloned());
         }
+        if let Some(f) = &self.contact_friction {
+            all.extend(f.series().iter().cloned());
+        }
         all
     }
 
     /// The tools' work on the body (`tool_contact_work`, `friction_work`,
-    /// `friction_dissipated`; none without tools) and, for a plastic body, `plastic_work`.
+    /// `friction_dissipated`; none without tools), with friction between bodies
+    /// `contact_friction_work` (the work of the friction impulses, ≤ 0) and, for a plastic body,
+    /// `plastic_work`.
     fn figures(&self) -> Vec<(&'static str, f64)> {
         let mut figures = self.tools.figures();
+        if let Some(f) = &self.contact_friction {
+            figures.push(("contact_friction_work", f.work()));
+        }
         if self.plasticity.is_some() {
             figures.push(("plastic_work", self.plastic_work()));
         }
@@ -854,6 +882,9 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         }
         self.tools.save(out);
         ReactionMeter::save_all(out, "grip_meters", &self.grip_meters);
+        if let Some(f) = &self.contact_friction {
+            f.save(out);
+        }
         // The plastic history, only for a plastic body (an elastic checkpoint is unchanged).
         if !self.plastic.is_empty() {
             let column = |f: fn(&PlasticParticle) -> f64| -> Vec<f64> {
@@ -898,6 +929,9 @@ impl<D: Dim, M: Material<D>> Solver<D> for TlSolver<D, M> {
         }
         self.tools.restore(input)?;
         ReactionMeter::restore_all(input, "grip_meters", &mut self.grip_meters)?;
+        if let Some(f) = &mut self.contact_friction {
+            f.restore(input)?;
+        }
         if !self.plastic.is_empty() {
             let cp_inv = input.matrices::<sph_core::D3>("inverse_plastic_cauchy_green", n)?;
             let eps = input.f64s("plastic_strain", n)?;

@@ -25,6 +25,7 @@
 //! the energy the contact model took out or put in.
 
 use crate::solver::gather;
+use sph_core::contact_friction::ContactFriction;
 use sph_core::pairs::fill_pair_kernels;
 use sph_core::{Dim, Error, NeighborList, PairKernel, WendlandC2};
 use sph_materials::ElasticConstants;
@@ -179,6 +180,42 @@ impl<D: Dim> Contact<D> {
                 contact_energy(m, rho_c, self.stiffness[b], self.rho0[b])
             })
             .sum()
+    }
+
+    /// The Coulomb friction pass of [`sph_core::contact_friction`] over the contact pairs of
+    /// the last force evaluation (their kernel data and contact densities, `densities` those
+    /// of that evaluation): each pair's normal force is the magnitude of its contact force,
+    /// `−2 p* V_i V_j W′_ij` (the operands grouped symmetrically). Returns the momentum change.
+    pub fn apply_friction(
+        &self,
+        friction: &mut ContactFriction<D>,
+        velocities: &mut [D::Vector],
+        masses: &[f64],
+        densities: &[f64],
+        free: &[bool],
+        dt: f64,
+    ) -> D::Vector {
+        if self.list.num_pairs() == 0 {
+            return D::zero();
+        }
+        let (pairs, rho_c, body, k) = (&self.pairs, &self.density, &self.body, &self.stiffness);
+        let normal = |i: usize, p: usize, j: usize| {
+            let pk = &pairs[p];
+            let p_star =
+                contact_pressure(k[body[i] as usize], rho_c[i], k[body[j] as usize], rho_c[j]);
+            let vv = (masses[i] / densities[i]) * (masses[j] / densities[j]);
+            (pk.e, -2.0 * p_star * vv * pk.dw)
+        };
+        friction.apply(
+            &self.list,
+            &self.body,
+            normal,
+            &self.accelerations,
+            velocities,
+            masses,
+            free,
+            dt,
+        )
     }
 
     /// Total contact force on each body, `Σ_{i ∈ b} m_i a_c,i`, of the last force evaluation.

@@ -47,6 +47,7 @@ use crate::shear::{Shear, ShearForce};
 use crate::stepping::{acoustic_dt, advection_dt, next_substep, Stepping};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use sph_core::contact_friction::{ContactFriction, FrictionTable};
 use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
 use sph_core::diagnostics;
 use sph_core::disorder::{affine_fit, disorder_indicator, ReferenceWeights};
@@ -160,6 +161,8 @@ pub struct UlSolver<D: Dim> {
     rebuild_positions: Vec<D::Vector>,
     /// Contact between bodies (`None`: one body).
     contact: Option<Contact<D>>,
+    /// Coulomb friction between the bodies (`None`: frictionless contact).
+    contact_friction: Option<ContactFriction<D>>,
     /// Contact force on each body, recorded with the probes.
     series: Vec<Series>,
     /// Rigid tools in kinematic contact (with friction where a tool has it) with the bodies.
@@ -295,6 +298,38 @@ impl<D: Dim> UlSolver<D> {
         Ok(self)
     }
 
+    /// Coulomb friction between the bodies of [`UlSolver::with_contact`], with the coefficients
+    /// of `table` per pair of bodies ([`sph_core::contact_friction`]: velocity-level
+    /// stick/slide on each contact pair after the kick, with the pair's contact force as the
+    /// normal force). The series gain `contact_friction_<b>` (the mean friction force on body
+    /// `b` and the sticking fraction), the summary `contact_friction_work`, the energy budget
+    /// the term `contact_friction` (minus the friction work); the impulse fixed partners take
+    /// is part of the momentum balance's constraint impulse. A frictionless table changes
+    /// nothing (the bits of frictionless contact).
+    ///
+    /// # Errors
+    /// No [`UlSolver::with_contact`] before, or a table of another number of bodies.
+    pub fn with_contact_friction(mut self, table: FrictionTable) -> Result<Self, Error> {
+        let Some(contact) = &self.contact else {
+            return Err(Error::invalid(
+                "contact friction",
+                "a solver without body-body contact",
+                "with_contact first",
+            ));
+        };
+        if table.bodies() != contact.bodies {
+            return Err(Error::invalid(
+                "contact friction bodies",
+                table.bodies(),
+                &format!("the solver's {} bodies", contact.bodies),
+            ));
+        }
+        self.contact_friction =
+            (!table.is_frictionless()).then(|| ContactFriction::new(table, self.len()));
+        self.reset_budget();
+        Ok(self)
+    }
+
     /// Attaches rigid tools in kinematic contact with the bodies, frictionless or with Coulomb
     /// friction ([`sph_core::tool`], [`sph_core::friction`]): after each acoustic step's kick
     /// and velocity constraints, the new velocity looks ahead one acoustic step from the
@@ -347,6 +382,9 @@ impl<D: Dim> UlSolver<D> {
             self.initial_total = self.energy_budget_now().total();
             self.initial_momentum = self.linear_momentum();
             self.constraint_impulse = D::zero();
+            if let Some(f) = &mut self.contact_friction {
+                f.reset();
+            }
         }
     }
 
@@ -368,6 +406,9 @@ impl<D: Dim> UlSolver<D> {
         self.probes = probes;
         for s in &mut self.series {
             *s = Series::new(&s.name, &AXES[..D::D]).with_description(&s.description);
+        }
+        if let Some(f) = &mut self.contact_friction {
+            f.reset();
         }
         if self.schedule.due(self.time) {
             self.record_probes();
@@ -406,6 +447,9 @@ impl<D: Dim> UlSolver<D> {
         }
         if !self.tools.is_empty() {
             self.tools.record(self.time);
+        }
+        if let Some(f) = &mut self.contact_friction {
+            f.record(self.time);
         }
     }
 
@@ -595,6 +639,9 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
             figures.push(("plastic_work", self.plastic_work()));
         }
         figures.extend(self.tools.figures());
+        if let Some(f) = &self.contact_friction {
+            figures.push(("contact_friction_work", f.work()));
+        }
         figures
     }
 
@@ -839,6 +886,9 @@ impl<D: Dim> Solver<D> for UlSolver<D> {
     fn series(&self) -> Vec<Series> {
         let mut all = self.series.clone();
         all.extend(self.tools.series().iter().cloned());
+        if let Some(f) = &self.contact_friction {
+            all.extend(f.series().iter().cloned());
+        }
         all
     }
 }

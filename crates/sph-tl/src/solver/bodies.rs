@@ -88,6 +88,13 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         mut bodies: ContactBodies,
         self_contact: Vec<bool>,
     ) -> Result<Self, Error> {
+        if self.contact_friction.is_some() {
+            return Err(Error::invalid(
+                "contact_friction",
+                "set before the bodies or self-contacts",
+                "with_contact_friction after with_bodies and with_self_contact",
+            ));
+        }
         for (k, s) in self_contact.into_iter().enumerate().take(bodies.bodies()) {
             bodies.self_contact[k] = s;
         }
@@ -126,6 +133,42 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
                 self.density,
             )
         });
+        Ok(self)
+    }
+
+    /// Coulomb friction on the contact pairs of [`TlSolver::with_bodies`] and
+    /// [`TlSolver::with_self_contact`], with the coefficients of `table` per pair of bodies
+    /// (the diagonal: a body's self-contact; [`sph_core::contact_friction`]: velocity-level
+    /// stick/slide on each contact pair after the kick, the pair's contact force as the normal
+    /// force). The series gain `contact_friction_<b>` (mean friction force on body `b`,
+    /// sticking fraction), the summary `contact_friction_work`. Call after the bodies and
+    /// self-contacts are set; a frictionless table changes nothing.
+    ///
+    /// # Errors
+    /// No contact (one body without self-contact), a table of another number of bodies, a
+    /// solver that has stepped or is built for ranks.
+    pub fn with_contact_friction(
+        mut self,
+        table: sph_core::contact_friction::FrictionTable,
+    ) -> Result<Self, Error> {
+        let n = self.reference.len();
+        self.check_contact_set_up("contact_friction", n)?;
+        let Some(contact) = &self.contact else {
+            return Err(Error::invalid(
+                "contact friction",
+                "a solver without contact",
+                "with_bodies or with_self_contact first",
+            ));
+        };
+        if table.bodies() != contact.bodies.bodies() {
+            return Err(Error::invalid(
+                "contact friction bodies",
+                table.bodies(),
+                &format!("the solver's {} bodies", contact.bodies.bodies()),
+            ));
+        }
+        self.contact_friction = (!table.is_frictionless())
+            .then(|| sph_core::contact_friction::ContactFriction::new(table, n));
         Ok(self)
     }
 

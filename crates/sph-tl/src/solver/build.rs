@@ -174,6 +174,7 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
             domain: None,
             contact: None,
             contact_scale: DEFAULT_CONTACT_SCALE,
+            contact_friction: None,
         })
     }
 

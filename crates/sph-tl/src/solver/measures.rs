@@ -36,6 +36,9 @@ impl<D: Dim, M: Material<D>> TlSolver<D, M> {
         if let Some(c) = &mut self.contact {
             c.record(self.time, &self.masses);
         }
+        if let Some(f) = &mut self.contact_friction {
+            f.record(self.time);
+        }
     }
 
     /// Appends one row to every grip's series: mean position, mean reaction since the last row.

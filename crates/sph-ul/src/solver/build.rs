@@ -165,6 +165,7 @@ impl<D: Dim> UlSolver<D> {
             guarded: 0,
             rebuild_positions: Vec::new(),
             contact: None,
+            contact_friction: None,
             series: Vec::new(),
             tools: ToolSet::default(),
             work: AccumulatedWork::default(),

@@ -105,6 +105,9 @@ impl<D: Dim> UlSolver<D> {
             budget.terms.push(("plastic", self.plastic_work()));
         }
         budget.terms.extend(self.tools.budget_terms());
+        if let Some(f) = &self.contact_friction {
+            budget.terms.push(("contact_friction", -f.work()));
+        }
         if !self.tools.is_empty() {
             budget
                 .notes

@@ -62,6 +62,10 @@ impl<D: Dim> UlSolver<D> {
         );
         save_series(out, &self.series);
         self.tools.save(out);
+        // Contact friction, only with it (a frictionless checkpoint is unchanged).
+        if let Some(f) = &self.contact_friction {
+            f.save(out);
+        }
         // The plastic history, only for a plastic body (an elastic checkpoint is unchanged).
         if !self.plastic.is_empty() {
             let column = |f: fn(&PlasticParticle) -> f64| -> Vec<f64> {
@@ -133,6 +137,9 @@ impl<D: Dim> UlSolver<D> {
         (self.initial_momentum, self.constraint_impulse) = (m[0], m[1]);
         restore_series(input, &mut self.series)?;
         self.tools.restore(input)?;
+        if let Some(f) = &mut self.contact_friction {
+            f.restore(input)?;
+        }
         if !self.plastic.is_empty() {
             let eps = input.f64s("plastic_strain", n)?;
             let temperature = input.f64s("temperature_rise", n)?;

@@ -613,6 +613,20 @@ impl<D: Dim> UlSolver<D> {
             );
         }
         self.time += dt;
+        // Coulomb friction between the bodies on the kicked velocities (the constraints then
+        // restore any constrained component; a fully constrained partner's reaction joins the
+        // constraint impulse).
+        if let (Some(friction), Some(contact)) = (&mut self.contact_friction, &self.contact) {
+            let momentum = contact.apply_friction(
+                friction,
+                &mut self.velocities,
+                &self.masses,
+                &self.densities,
+                &self.free,
+                dt,
+            );
+            self.constraint_impulse -= momentum;
+        }
         self.constraints
             .apply_to_velocities(self.time, &mut self.velocities);
         if !self.tools.is_empty() {
