@@ -117,8 +117,8 @@ fn measure(source: &str, across: usize, hf: bool) -> Result<Value, String> {
     measure_with(source, across, shear, TlParams::default())
 }
 
-/// [`measure`] with any TL shear treatment and numerical parameters: the row's `method` is
-/// the shear's name.
+/// The measured breathing period of `source` at `across` with any TL shear treatment and
+/// numerical parameters: the row's `method` is the shear's name.
 pub fn measure_with(
     source: &str,
     across: usize,
