@@ -2,7 +2,7 @@
 //! rigid block's answer — it sticks for tan θ ≤ μ_s and otherwise slides at
 //! g (sin θ − μ_k cos θ) — for TL-HF, UL-ENOG and MPS, in 2D (resolutions 5, 10, 20) and 3D
 //! (5, 10), the sticking side of the cone, and the band μ_k < tan θ < μ_s where an elastic
-//! block's start-up wave matters.
+//! block's start-up wave matters; and TL self-contact, the folding strip ([`crate::folding`]).
 
 use crate::store::{load, pct, rel, run_or_load, StoredRun};
 use sph_cases::CaseError;
@@ -143,6 +143,7 @@ pub fn run_all(sel: Selection) -> Result<(), CaseError> {
             sel.force,
         )?;
     }
+    crate::folding::run_all(sel.force)?;
     Ok(())
 }
 
@@ -332,5 +333,6 @@ pub fn report(md: &mut String) -> Result<(), String> {
         )
         .unwrap();
     }
+    crate::folding::report(md);
     Ok(())
 }

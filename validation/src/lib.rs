@@ -10,6 +10,7 @@ pub mod cost;
 pub mod extreme;
 pub mod features;
 pub mod fem_plate;
+pub mod folding;
 pub mod frames;
 pub mod geometry;
 pub mod h5report;

@@ -137,6 +137,8 @@ const CASE_CLASSES: &[(&str, &str, u32)] = &[
     ("ball-plate-3d", "impact", 3),
     // A body on a rigid tool, loaded slowly (gravity): nearest to the tool-compression scenes.
     ("incline-block", "compression", 2),
+    // A free body thrown into a fold: its faces meet at speed, nearest to the impacts.
+    ("folding-strip", "impact", 2),
 ];
 
 /// The kind and dimension of a case (`None` for a case not in the table).

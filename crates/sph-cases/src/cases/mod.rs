@@ -5,6 +5,7 @@ pub mod bending_column_3d;
 pub mod cantilever_plate_2d;
 pub mod colliding_balls_3d;
 pub mod colliding_rings_2d;
+pub mod folding_strip;
 pub mod hertz_impact_3d;
 pub mod impact_common;
 pub mod incline_block;
@@ -47,4 +48,5 @@ pub static ALL: &[&dyn Case] = &[
     &cantilever_plate_2d::CantileverPlate2d,
     &static_cantilever_2d::StaticCantilever2d,
     &incline_block::InclineBlock,
+    &folding_strip::FoldingStrip,
 ];
