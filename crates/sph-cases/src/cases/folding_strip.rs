@@ -231,7 +231,7 @@ pub fn fold_velocities<D: Dim>(
         .collect();
     let n = v.len().max(1) as f64;
     let mean = v.iter().fold(D::zero(), |a, &b| a + b) / n;
-    v.iter_mut().for_each(|x| *x = *x - mean);
+    v.iter_mut().for_each(|x| *x -= mean);
     v
 }
 
