@@ -267,6 +267,30 @@ fn friction_resumed_runs_are_bit_identical_in_every_family() {
     }
 }
 
+/// The folding strip's watch (smallest gap, momentum and energy extremes, measured after every
+/// step) travels with the checkpoint: resumed after the ends have met (12 ms at resolution 3),
+/// the summary's `smallest_gap`, `energy_error` and the rest compare equal.
+#[test]
+fn a_folding_strip_resumes_with_its_watch_bit_identically() {
+    let dir = resumed_run_is_bit_identical(
+        "folding",
+        &[
+            "run",
+            "folding-strip",
+            "--method",
+            "tl",
+            "--set",
+            "resolution=3",
+            "--set",
+            "end_time=0.016",
+            "--set",
+            "snapshot_interval=0.004",
+        ],
+        "0.0135",
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// Issue 42: a scene run with overrides (a parameter, the method), probe fields and VTU frames
 /// resumes bit-identically, with its overrides, and re-creates its frames and collection.
 #[test]
