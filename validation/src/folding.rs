@@ -168,7 +168,7 @@ pub fn report(md: &mut String) {
     }
     writeln!(
         md,
-        "\nWith self-contact the ends stop 0.55–0.75 dp apart at every resolution and method \
+        "\nAt the default throw, with self-contact the ends stop 0.55–0.75 dp apart at every resolution and method \
          (the faces overlap by a quarter to half a spacing at the peak, the penalty's \
          compliance); without it they pass through each other (gap below 0.001 dp). Momentum \
          is conserved to round-off (the contact pair forces are equal and opposite bit for \
