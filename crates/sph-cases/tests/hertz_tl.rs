@@ -145,7 +145,6 @@ fn a_sphere_on_a_rigid_tool_wall_meets_hertz_without_a_contact_layer() {
     p.apply_assignment("contact_stiffness=2").unwrap();
     let err = c
         .run("ul-enog", &p, &RunOptions::default())
-        .err()
-        .expect("κ refused with the tool");
+        .expect_err("κ refused with the tool");
     assert!(err.to_string().contains("contact_stiffness"), "{err}");
 }
