@@ -39,6 +39,7 @@
 pub use glam;
 
 mod bvh;
+pub mod count;
 pub mod fit;
 pub mod generate;
 pub mod mesh;
