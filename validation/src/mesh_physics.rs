@@ -75,7 +75,8 @@ pub fn breathing_period() -> f64 {
 }
 
 /// The sphere's particles: `"primitive"` (the lattice inside the exact ball), `"mesh"` (a UV
-/// sphere of 128 segments filled and relaxed) or `"mesh-lattice"` (its lattice fill only).
+/// sphere of 128 segments fitted by default: count matched to its volume, relaxed) or
+/// `"mesh-lattice"` (its lattice fill only).
 fn particles(source: &str, across: usize) -> Result<ParticleSet<D3>, String> {
     let dp = 2.0 * RADIUS / across as f64;
     let lo = DVec3::splat(-RADIUS);
@@ -98,6 +99,8 @@ fn particles(source: &str, across: usize) -> Result<ParticleSet<D3>, String> {
                 dp,
                 &FitOptions {
                     relax_steps,
+                    // The lattice-only sphere is the lattice fill as it is.
+                    match_count: source == "mesh",
                     ..FitOptions::default()
                 },
             )
@@ -242,11 +245,13 @@ pub fn report(md: &mut String) -> Result<(), String> {
          velocity field; the period from the zero crossings of `Σ V (x − c)·v`, against Lamb's \
          closed form `T = 2π R/(ξ c_p)` with `(λ + 2μ) j₀(ξ) = 4μ j₁(ξ)/ξ` (ξ = {:.5}, T = \
          {:.4e} s). The particles come from the exact ball on the lattice (`primitive`), from a \
-         128-segment UV-sphere mesh filled and relaxed ({DEFAULT_RELAX_STEPS} steps, `mesh`) \
+         128-segment UV-sphere mesh fitted by default (`mesh`: its count brought to the mesh's \
+         volume by removing outer-layer particles, then relaxed, {DEFAULT_RELAX_STEPS} steps) \
          and from the same mesh's lattice fill alone (`mesh-lattice`). The exact ball \
          and the mesh's lattice fill are the same particles when their columns agree (the \
-         mesh's inside test against the exact one at every lattice point); the relaxed mesh \
-         differs from both only by its surface layer, moved from the lattice's staircase onto \
+         mesh's inside test against the exact one at every lattice point); the fitted mesh \
+         differs from both only by its surface layer, thinned to the mesh's volume and moved \
+         from the lattice's staircase onto \
          the sphere: `mesh − primitive` is what body fitting changes in the physics, and each \
          column's distance from Lamb is the method's error with that surface.\n",
         breathing_root(NU),
