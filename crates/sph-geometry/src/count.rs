@@ -90,7 +90,7 @@ fn face_neighbours<D: Dim>(c: [i64; 3]) -> impl Iterator<Item = [i64; 3]> {
 /// come last.
 ///
 /// # Errors
-/// A point of `x` not at a cell centre of `lattice` (off by more than `dp/4`); the particle
+/// An enclosed volume not finite and `> 0` (naming the file); a point of `x` not at a cell centre of `lattice` (off by more than `dp/4`); the particle
 /// budget for added particles.
 pub fn match_count<D: Dim>(
     x: &mut Vec<D::Vector>,
@@ -98,7 +98,14 @@ pub fn match_count<D: Dim>(
     lattice: &Lattice<D>,
 ) -> Result<CountChange, Error> {
     let dp = lattice.dp();
-    let target = volume_count::<D>(boundary.volume(), dp);
+    let volume = boundary.volume();
+    if !(volume.is_finite() && volume > 0.0) {
+        return Err(crate::file_error(
+            boundary.name(),
+            format!("enclosed volume {volume:?} is not finite and > 0: the particle count cannot be matched to it"),
+        ));
+    }
+    let target = volume_count::<D>(volume, dp);
     let mut change = CountChange {
         lattice: x.len(),
         ..CountChange::default()

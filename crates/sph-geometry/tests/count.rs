@@ -180,3 +180,49 @@ fn the_count_match_and_the_relaxation_do_not_depend_on_the_thread_count() {
     assert!(one.1.removed > 0, "{:?}", one.1);
     assert_eq!(one, two);
 }
+
+/// A sphere whose enclosed volume reads as `volume` (a stand-in for a damaged file).
+struct BadVolume(MeshSolid, f64);
+
+impl Shape<D3> for BadVolume {
+    fn contains(&self, x: DVec3) -> bool {
+        self.0.contains(x)
+    }
+    fn bounds(&self) -> (DVec3, DVec3) {
+        self.0.bounds()
+    }
+}
+
+impl Boundary<D3> for BadVolume {
+    fn signed_distance(&self, x: DVec3) -> (f64, DVec3) {
+        self.0.signed_distance(x)
+    }
+    fn volume(&self) -> f64 {
+        self.1
+    }
+    fn name(&self) -> &str {
+        "bad.stl"
+    }
+}
+
+#[test]
+fn a_volume_that_cannot_be_matched_is_a_one_line_error() {
+    let s = MeshSolid::new(TriMesh::uv_sphere(DVec3::ZERO, 1.0, 16), "ball").unwrap();
+    for v in [f64::NAN, 0.0, -1.0, f64::INFINITY] {
+        let bad = BadVolume(s.clone(), v);
+        let e = fit(&bad, 0.25, &FitOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("bad.stl") && e.contains("enclosed volume") && !e.contains('\n'),
+            "{e}"
+        );
+        // Without the count match the fill goes on.
+        let options = FitOptions {
+            match_count: false,
+            relax_steps: 0,
+            ..FitOptions::default()
+        };
+        assert!(fit(&bad, 0.25, &options).is_ok());
+    }
+}
