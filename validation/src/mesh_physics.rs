@@ -526,8 +526,8 @@ fn report_hertz(md: &mut String) {
         "The mesh-built spheres do not meet the 1 % asked of them against `layers` at these \
          resolutions: `t_c` mesh − layers is {}. The difference falls with dp (about first \
          order), and the mesh run is the closer to Hertz's `t_c` at every resolution. What it \
-         is not, measured: the mesh's faceting (3·10⁻⁴ R, under 1 % of dp at every \
-         resolution), the mass (each row is against Hertz for its own mass), or the position \
+         is not, measured: the mesh's faceting (6·10⁻⁴ R at most, 0.6–1.2 % of dp here; \
+         0.3 % of the contact radius a), the mass (each row is against Hertz for its own mass), or the position \
          of the surface: over the Hertz contact radius `a = √(R δ_max/2)` = 0.21 R the fitted \
          outer layer lies dp/2 deep to 0.012 dp, as the `layers` one does exactly. The pairs \
          closer than dp when the undeformed spheres overlap by δ_max/2 and δ_max (what the \

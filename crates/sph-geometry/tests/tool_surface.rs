@@ -61,8 +61,17 @@ fn a_uv_sphere_surface_is_the_ball_within_its_tessellation_error() {
                 checked += 1;
             }
         }
-        // The bound is the right size (not loose by orders of magnitude).
-        assert!(worst > 0.2 * bound, "n {n}: worst {worst} vs bound {bound}");
+        println!(
+            "n {n}: worst {worst:.3e} = {:.3} R(1 − cos α), {:.3} R(1 − cos(π/n))",
+            worst / bound,
+            worst / (r * (1.0 - (PI / n as f64).cos()))
+        );
+        // The bound is reached (measured 0.993–0.997 of it): the circumcentres of the
+        // equator's triangles; the edge midpoints' sag R (1 − cos(π/n)) is half of it.
+        assert!(
+            worst > 0.95 * bound,
+            "n {n}: worst {worst} vs bound {bound}"
+        );
         assert!(checked > 1000);
         let (lo, hi) = tool.bounds();
         assert!((lo - (c - DVec3::splat(r))).abs().max_element() < 1e-12);

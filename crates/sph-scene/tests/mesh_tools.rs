@@ -74,7 +74,7 @@ region = { box = { min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, -0.005] } }
 /// A ball of radius 4 mm pressed 1.5 mm into a TL-HF block, given as the exact `ball` and as
 /// UV-sphere STL files of 64 and 128 segments (drawn in millimetres, scaled and moved into
 /// place by the placement keys). The mesh's surface lies inside the sphere by at most
-/// `ε = R (1 − cos(√2 π/n))` (4.8 µm and 1.2 µm; `tool_surface.rs` in sph-geometry), second
+/// `ε = R (1 − cos(√2 π/n))` (9.6 µm and 2.4 µm; `tool_surface.rs` in sph-geometry), second
 /// order in `1/n`: the force histories must differ by an amount that falls with ε (by at least
 /// 2.5× from 64 to 128 segments, where ε falls 4×) and, at 128 segments, by less than 1 % of
 /// the peak force.
@@ -114,7 +114,7 @@ fn an_stl_sphere_punch_indents_a_block_as_the_exact_ball_does() {
 /// In 2D every family that takes tools (TL-HF, UL-ENOG, MPS) takes an outline tool: a disc of
 /// radius 4 mm given as a 256-gon, its edges within `ε = R (1 − cos(π/256)) = 0.3 µm` of the
 /// circle, turning and pressed 1 mm into a strip; the forces of the outline and the exact disc
-/// agree within 1 % of their peak (the bound of the 3D test, `1.5 ε/δ`, is 0.05 % here).
+/// agree within 1 % of their peak (ε is 3·10⁻⁴ of the indentation).
 #[test]
 fn every_family_takes_an_outline_tool_as_the_exact_disc() {
     let dir = scratch("disc2");
