@@ -694,6 +694,8 @@ impl<D: Dim> UlSolver<D> {
             true,
         );
         self.tools.end_step(dt);
+        // The tools' push leaves the body's momentum as a support's reaction does.
+        self.constraint_impulse -= self.tools.step_impulse();
         if let Some(kicked) = kicked {
             self.rebook_tool_work(&kicked, dt);
         }
