@@ -199,6 +199,16 @@ pub fn keys() -> Vec<KeyDoc> {
         k("tool-shape.ball.radius", "number", "required", "all", "radius (m)"),
         k("tool-shape.half-space.point", VEC, "required", "all", "a point of a wall's surface"),
         k("tool-shape.half-space.normal", VEC, "required", "all", "the outward normal of the wall's surface: the solid lies on the other side, the body on this one"),
+        k("tool-shape.mesh.file", "string", "required", "all", "3D: a rigid tool shaped by a closed triangle mesh (STL or OBJ, relative to the scene file; read, repaired and refused as a body's `shape.mesh`); the contact uses its signed distance (closest point by a BVH, side by the generalized winding number) and moves it with the tool"),
+        k("tool-shape.mesh.scale", "number", "1", "all", "as for `shape.mesh`"),
+        k("tool-shape.mesh.rotate.axis", "[x, y, z]", "[0, 0, 1]", "all", "as for `shape.mesh` (the placement; the tool's own `rotation` turns it in time)"),
+        k("tool-shape.mesh.rotate.degrees", "number", "required by rotate", "all", "rotation angle (degrees)"),
+        k("tool-shape.mesh.translate", VEC, "none", "all", "translation, applied last (m)"),
+        k("tool-shape.outline.file", "string", "required", "all", "2D: a rigid tool shaped by a closed outline (as a body's `shape.outline`)"),
+        k("tool-shape.outline.scale", "number", "1", "all", "as for `shape.outline`"),
+        k("tool-shape.outline.rotate.axis", "[x, y, z]", "[0, 0, 1]", "all", "only ±z"),
+        k("tool-shape.outline.rotate.degrees", "number", "required by rotate", "all", "rotation angle (degrees, counter-clockwise)"),
+        k("tool-shape.outline.translate", VEC, "none", "all", "translation, applied last (m)"),
         // Amplitudes.
         k("amplitude.ramp.start", "number", "0", "all", "linear from 0 at `start` (s) …"),
         k("amplitude.ramp.duration", "number", "required", "all", "… to 1 at `start + duration` (s), then 1"),
@@ -226,7 +236,7 @@ const SECTIONS: [(&str, &str, &str); 14] = [
     ("`[[tool]]`", "tool[].", "Rigid tools, frictionless or with Coulomb friction, for every method (TL, UL, MPS). A tool moves along a straight line (`direction`, `speed`, `ramp_time`, `travel`), a `path` or a `velocity` curve, and may turn (`rotation`)."),
     ("`[relaxation]`", "relaxation.", "Quasi-static relaxation by pairwise damping (TL methods)."),
     ("Shapes", "shape.", "A shape is a one-key table: `{ box = { min = [0.0, 0.0], max = [0.1, 0.01] } }`; `union` and `intersection` take a list of shapes, `difference` two."),
-    ("Tool shapes", "tool-shape.", "`{ box = … }`, `{ ball = … }` or `{ half-space = { point = [..], normal = [..] } }`."),
+    ("Tool shapes", "tool-shape.", "`{ box = … }`, `{ ball = … }`, `{ half-space = { point = [..], normal = [..] } }`, or a file placed as a body's: `{ mesh = { file = \"punch.stl\", scale = 1e-3 } }` (3D) or `{ outline = { file = \"die.csv\" } }` (2D)."),
     ("Amplitude curves", "amplitude.", "A dimensionless a(t) that scales a prescribed value, a one-key table: `{ ramp = { duration = 1e-3 } }`, `{ smooth-step = { start = 0.0, duration = 2e-3 } }`, `{ table = [[0.0, 0.0], [1e-3, 1.0]] }`, `{ sine = { frequency = 50.0 } }`."),
 ];
 
