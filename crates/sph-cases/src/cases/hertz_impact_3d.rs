@@ -20,7 +20,8 @@
 //! docs/validation.md) builds the spheres from concentric spherical layers
 //! (`hollow_sphere_polar`, poles on z, away from the contact on the x axis), the right sphere the
 //! mirror image of the left; `lattice` cuts them from a cubic lattice whose cell faces pass
-//! through the centres. The wall is a fixed body (every particle `Fixed`), a lattice slab
+//! through the centres; `mesh` fits them to a UV-sphere triangle mesh ([`mesh_sphere`]), the
+//! right sphere again the mirror image. The wall is a fixed body (every particle `Fixed`), a lattice slab
 //! `x ∈ [0, 3 dp]` (thicker than UL's kernel support 2.6 dp, TL's 2.3 dp) of `1.2 radius`
 //! square, meeting the sphere through the same contact as a second sphere would (for TL too: a
 //! fixed TL body, not a rigid tool, so both families meet the wall through their body contact).
@@ -41,7 +42,7 @@
 //! The end time (key `end_time`, 0 = automatic) is the flight to contact plus `2 t_c`.
 
 use crate::cases::impact_common::{
-    body_velocities, contact_param, contact_summary, layout_param, tool_contact_summary,
+    body_velocities, contact_param, contact_summary, tool_contact_summary,
 };
 use crate::cases::tl_common::{material, run_tl, tl_params, TL_METHODS};
 use crate::cases::ul_common::{run_ul, ul_params};
@@ -53,7 +54,9 @@ use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
 use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::{Constraint, Constraints, Solver, D3};
+use sph_geometry::fit::{fit, FitOptions};
 use sph_geometry::generate::{hollow_sphere, hollow_sphere_polar, Aabb, Lattice, ParticleSet};
+use sph_geometry::mesh::{MeshSolid, TriMesh};
 use sph_materials::{Material, MaterialKind};
 
 /// The Hertz impact.
@@ -172,6 +175,21 @@ pub fn hertz_force_history(
     out
 }
 
+/// Segments (around and, halved, pole to pole) of the UV-sphere mesh of `layout = mesh`: its
+/// largest distance from the exact sphere, `R (1 − cos(√2 π/n))` (at the triangles'
+/// circumcentres), is 6.0e-4 R: 0.6 % of `dp` at R/dp = 10, 1.2 % at 20.
+pub const MESH_SEGMENTS: usize = 128;
+
+/// The particles of a sphere body-fitted to a UV-sphere triangle mesh ([`TriMesh::uv_sphere`],
+/// [`MESH_SEGMENTS`] segments) at spacing `dp` with the default relaxation
+/// ([`sph_geometry::fit::fit`]): what a user importing the sphere as an STL file gets.
+pub fn mesh_sphere(centre: DVec3, radius: f64, dp: f64) -> Result<ParticleSet<D3>, CaseError> {
+    let mesh = TriMesh::uv_sphere(centre, radius, MESH_SEGMENTS);
+    let solid = MeshSolid::new(mesh, "uv-sphere")?;
+    let (set, _) = fit(&solid, dp, &FitOptions::default())?;
+    Ok(set)
+}
+
 impl Case for HertzImpact3d {
     fn info(&self) -> CaseInfo {
         CaseInfo {
@@ -216,7 +234,16 @@ impl Case for HertzImpact3d {
                 "what the sphere hits: an identical sphere, a rigid wall of fixed particles \
                  (`wall`) or a rigid half-space tool (`tool`)",
             ),
-            layout_param("layers"),
+            Param::choice(
+                "layout",
+                "layers",
+                &["layers", "lattice", "mesh"],
+                "particles of the spheres: `layers` = concentric spherical layers on Fibonacci \
+                 lattices (sph_geometry::generate::hollow_sphere_polar, smooth surface), \
+                 `lattice` = cut from a cubic lattice (staircase surface), `mesh` = body-fitted \
+                 to a UV-sphere triangle mesh of 128 segments (sph_geometry::fit, \
+                 default relaxation: the surface layer dp/2 inside the mesh)",
+            ),
             contact_param(),
             Param::float(
                 "end_time",
@@ -268,6 +295,7 @@ impl Case for HertzImpact3d {
         let centre = DVec3::new(-(radius + offset), 0.0, 0.0);
         let left = match p.text("layout") {
             "lattice" => hollow_sphere(centre, 0.0, radius, dp)?,
+            "mesh" => mesh_sphere(centre, radius, dp)?,
             _ => hollow_sphere_polar(centre, 0.0, radius, dp)?,
         };
         let nl = left.len();

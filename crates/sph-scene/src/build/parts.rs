@@ -314,7 +314,12 @@ impl Scene {
             (Some(shape), None) => match layout {
                 "fitted" => {
                     let solid = match shape.geometry_file() {
-                        Some(g) => self.file_solid::<D>(&at("shape"), &key("shape"), shape, g)?,
+                        Some(g) => self.file_solid::<D>(
+                            &at("shape"),
+                            &key("shape"),
+                            matches!(shape, ShapeSpec::Mesh { .. }),
+                            g,
+                        )?,
                         None => {
                             return Err(self.error_in(
                                 &at("layout"),
@@ -549,21 +554,25 @@ impl Scene {
                 self.shape::<D>(at, key, cut)?,
             )),
             ShapeSpec::Mesh { .. } | ShapeSpec::Outline { .. } => match s.geometry_file() {
-                Some(g) => Box::new(self.file_solid::<D>(at, key, s, g)?),
+                Some(g) => Box::new(self.file_solid::<D>(
+                    at,
+                    key,
+                    matches!(s, ShapeSpec::Mesh { .. }),
+                    g,
+                )?),
                 None => unreachable!("a mesh or outline has a file"),
             },
         })
     }
 
-    /// A mesh or outline shape: the file (relative to the scene file) read and placed.
+    /// A mesh (`mesh`) or outline shape: the file (relative to the scene file) read and placed.
     pub(super) fn file_solid<D: Dim>(
         &self,
         at: &At<'_>,
         key: &str,
-        s: &ShapeSpec,
+        mesh: bool,
         g: GeometryFileSpec<'_>,
     ) -> Result<FileSolid<D>, SceneError> {
-        let mesh = matches!(s, ShapeSpec::Mesh { .. });
         let kind = if mesh { "mesh" } else { "outline" };
         let bad = |field: &str, m: String| self.error_in(at, &format!("{key}.{kind}.{field}"), m);
         if mesh && D::D != 3 {
@@ -1043,6 +1052,19 @@ impl Scene {
                     self.vector::<D>(&at("shape"), &key("shape"), point)?,
                     self.vector::<D>(&at("shape"), &key("shape"), normal)?,
                 ),
+                ToolShapeSpec::Mesh { .. } | ToolShapeSpec::Outline { .. } => {
+                    match s.shape.geometry_file() {
+                        Some(g) => self
+                            .file_solid::<D>(
+                                &at("shape"),
+                                &key("shape"),
+                                matches!(s.shape, ToolShapeSpec::Mesh { .. }),
+                                g,
+                            )?
+                            .into_tool_shape(),
+                        None => unreachable!("a mesh or outline has a file"),
+                    }
+                }
             }
             .map_err(|e| self.error_in(&at("shape"), &key("shape"), e.to_string()))?;
             let motion = self.tool_motion::<D>(&at, &key, s)?;
