@@ -22,6 +22,7 @@ pub mod mps;
 pub mod mps_stab;
 pub use sph_plot as plot;
 pub mod store;
+pub mod taylor;
 pub mod tl;
 pub mod tradeoff;
 pub mod ul;

@@ -12,9 +12,16 @@
 //! amplitude of 1e-4 (linear), and measures the period from the zero crossings of the radial
 //! moment `Σ V (x − c)·v` (∝ cos ω t for the pure mode): the first and third crossings are
 //! one period apart. Stored as `validation/results/geometry-physics.json`.
+//!
+//! And the Hertz impact of two elastic spheres with UL-ENOG (`hertz-impact-3d`, whose
+//! validation is the `impacts` section) with the spheres body-fitted to a 128-segment UV-sphere
+//! mesh (`layout = mesh`) against the same impact with the procedural spheres (`layers`, the
+//! case's default, and `lattice`) and Hertz's closed form: contact time and peak force at
+//! R/dp = 10, 15 and 20 ([`HERTZ_MESH_RES`]), stored as
+//! `validation/results/hertz-ul-enog-r<R/dp>-k1-mesh.json` beside the primitive runs.
 
-use crate::store::results_dir;
-use serde_json::{json, Value};
+use crate::store::{load, results_dir, run_or_load_then, StoredRun};
+use serde_json::{json, Map, Value};
 use sph_core::glam::DVec3;
 use sph_core::{Body, Solver, D3};
 use sph_geometry::fit::{fit, FitOptions, DEFAULT_RELAX_STEPS};
@@ -35,6 +42,142 @@ const DENSITY: f64 = 1000.0;
 
 /// Particles across the diameter.
 pub const ACROSS: [usize; 3] = [10, 20, 30];
+
+/// The resolutions R/dp of the Hertz impact through a mesh (those of the case's own ENOG
+/// validation but 30, whose 230,000 particles per run are `--fine` there).
+pub const HERTZ_MESH_RES: [u32; 3] = [10, 15, 20];
+
+/// A Hertz impact run with UL-ENOG at `res` with the contact scale 1, in `layout`: its stored
+/// id and `--set` assignments (the primitive `layers` runs are the impacts section's own).
+fn hertz_run(res: u32, layout: &str) -> (String, Vec<String>) {
+    let mut set = vec![
+        format!("resolution={res}"),
+        "contact_stiffness=1".to_string(),
+        "monitor_interval=2e-4".to_string(),
+        "snapshot_interval=1e-3".to_string(),
+    ];
+    let suffix = match layout {
+        "layers" => String::new(),
+        other => {
+            set.push(format!("layout={other}"));
+            format!("-{other}")
+        }
+    };
+    (format!("hertz-ul-enog-r{res}-k1{suffix}"), set)
+}
+
+/// The Hertz impact's sphere radius (m; the case's default).
+const HERTZ_RADIUS: f64 = 0.05;
+
+/// The outer layer of the left sphere over the Hertz contact patch: its particles within `dp`
+/// of the surface (depth `R − |x − c|`) and within the contact radius `a` of the x axis on the
+/// side facing the other sphere, where the contact acts. `a = √(R* δ_max)` with `R* = R/2` and
+/// Hertz's largest approach `δ_max` of the case's defaults (Johnson 1985, §4.2, §11.4). Returns
+/// the count against the ideal `π a²/dp²` of a square array of spacing dp, and the depths'
+/// mean, RMS spread, smallest and largest (in dp; `½` for a layer at exactly dp/2).
+fn contact_patch(left: impl Iterator<Item = DVec3>, dp: f64) -> Value {
+    use sph_cases::cases::hertz_impact_3d::{hertz_impact, HertzTarget};
+    let (r, rho) = (HERTZ_RADIUS, 1200.0);
+    let m = rho * 4.0 / 3.0 * PI * r.powi(3);
+    let delta = hertz_impact(HertzTarget::Sphere, r, m, 1e7, 0.4, 1.0).max_compression;
+    let a = (0.5 * r * delta).sqrt();
+    // The case's left sphere: its surface dp/4 left of x = 0 (gap dp/2 between the spheres).
+    let centre = DVec3::new(-(r + 0.25 * dp), 0.0, 0.0);
+    let left: Vec<DVec3> = left.collect();
+    // Rigid overlap: both spheres moved toward each other until their surfaces touch, then by
+    // δ/2 more each; the pairs closer than dp (those the contact density counts), the right
+    // sphere being the mirror image of the left (as the case builds it).
+    let pairs = |approach: f64| -> usize {
+        let shift = 0.25 * dp + 0.5 * approach;
+        let near: Vec<DVec3> = left
+            .iter()
+            .map(|x| *x + DVec3::X * shift)
+            .filter(|x| x.x > -dp)
+            .collect();
+        near.iter()
+            .map(|x| {
+                near.iter()
+                    .filter(|y| x.distance_squared(DVec3::new(-y.x, y.y, y.z)) < dp * dp)
+                    .count()
+            })
+            .sum()
+    };
+    let (pairs_half, pairs_max) = (pairs(0.5 * delta), pairs(delta));
+    let depths: Vec<f64> = left
+        .iter()
+        .filter_map(|&x| {
+            let d = x - centre;
+            let depth = (r - d.length()) / dp;
+            (d.x > 0.0 && d.y.hypot(d.z) < a && depth < 1.0).then_some(depth)
+        })
+        .collect();
+    let n = depths.len().max(1) as f64;
+    let mean = depths.iter().sum::<f64>() / n;
+    let rms = (depths.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / n).sqrt();
+    json!({
+        "particles": depths.len(),
+        "ideal": PI * a * a / (dp * dp),
+        "depth_mean": mean,
+        "depth_rms": rms,
+        "depth_min": depths.iter().copied().fold(f64::INFINITY, f64::min),
+        "depth_max": depths.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        "pairs_half_approach": pairs_half,
+        "pairs_max_approach": pairs_max,
+    })
+}
+
+/// [`contact_patch`] of a primitive layout's left sphere at `res` (`layers` or `lattice`),
+/// built as the case builds it.
+fn primitive_patch(layout: &str, res: u32) -> Option<Value> {
+    let dp = HERTZ_RADIUS / res as f64;
+    let centre = DVec3::new(-(HERTZ_RADIUS + 0.25 * dp), 0.0, 0.0);
+    let set = match layout {
+        "lattice" => sph_geometry::generate::hollow_sphere(centre, 0.0, HERTZ_RADIUS, dp),
+        _ => sph_geometry::generate::hollow_sphere_polar(centre, 0.0, HERTZ_RADIUS, dp),
+    }
+    .ok()?;
+    Some(contact_patch(set.positions().iter().copied(), dp))
+}
+
+/// Runs (or loads) the Hertz impacts with mesh-built spheres and their primitive twins.
+fn run_hertz(force: bool) -> Result<(), String> {
+    for res in HERTZ_MESH_RES {
+        for layout in ["layers", "mesh"] {
+            let (id, set) = hertz_run(res, layout);
+            // Only the mesh runs are this section's to re-run; the primitive ones are the
+            // impacts section's (re-run there).
+            let dp = HERTZ_RADIUS / res as f64;
+            let after = |c: &sph_output::FileContents| -> Result<Map<String, Value>, String> {
+                if layout != "mesh" {
+                    return Ok(Map::new());
+                }
+                // The initial positions: the first snapshot, the left sphere x < 0.
+                let first = c.snapshots.first().ok_or("no snapshot")?;
+                let x = first
+                    .dataset("position")
+                    .and_then(|d| d.as_f64())
+                    .ok_or("no positions")?;
+                let left = x
+                    .chunks_exact(3)
+                    .map(|p| DVec3::new(p[0], p[1], p[2]))
+                    .filter(|p| p.x < 0.0);
+                let mut m = Map::new();
+                m.insert("contact_patch".into(), contact_patch(left, dp));
+                Ok(m)
+            };
+            run_or_load_then(
+                &id,
+                "hertz-impact-3d",
+                "ul-enog",
+                &set,
+                force && layout == "mesh",
+                &after,
+            )
+            .map_err(|e| format!("{id}: {e}"))?;
+        }
+    }
+    Ok(())
+}
 
 /// The spherical Bessel functions `j₀(x) = sin x / x` and `j₁(x) = sin x / x² − cos x / x`.
 fn spherical_bessel_01(x: f64) -> (f64, f64) {
@@ -75,7 +218,8 @@ pub fn breathing_period() -> f64 {
 }
 
 /// The sphere's particles: `"primitive"` (the lattice inside the exact ball), `"mesh"` (a UV
-/// sphere of 128 segments filled and relaxed) or `"mesh-lattice"` (its lattice fill only).
+/// sphere of 128 segments fitted by default: count matched to its volume, relaxed) or
+/// `"mesh-lattice"` (its lattice fill only).
 fn particles(source: &str, across: usize) -> Result<ParticleSet<D3>, String> {
     let dp = 2.0 * RADIUS / across as f64;
     let lo = DVec3::splat(-RADIUS);
@@ -98,6 +242,8 @@ fn particles(source: &str, across: usize) -> Result<ParticleSet<D3>, String> {
                 dp,
                 &FitOptions {
                     relax_steps,
+                    // The lattice-only sphere is the lattice fill as it is.
+                    match_count: source == "mesh",
                     ..FitOptions::default()
                 },
             )
@@ -190,6 +336,12 @@ pub fn measure_with(
 /// Runs every sphere (primitive, mesh relaxed, mesh lattice-only) at every resolution with TL
 /// and TL-HF and stores the periods; reuses them unless `force`.
 pub fn run_all(force: bool) -> Result<(), String> {
+    run_breathing(force)?;
+    run_hertz(force)
+}
+
+/// The breathing spheres of [`run_all`].
+fn run_breathing(force: bool) -> Result<(), String> {
     let path = results_dir().join(FILE);
     if path.is_file() && !force {
         println!("geometry physics: stored ({})", path.display());
@@ -221,8 +373,189 @@ pub fn run_all(force: bool) -> Result<(), String> {
     Ok(())
 }
 
-/// The "physics through a mesh" part of the Geometry section of docs/validation.md.
+/// The "physics through a mesh" part of the Geometry section of docs/validation.md: the
+/// breathing sphere, then the Hertz impact.
 pub fn report(md: &mut String) -> Result<(), String> {
+    report_breathing(md)?;
+    report_hertz(md);
+    Ok(())
+}
+
+/// The Hertz impact through a mesh: contact time and peak force of the mesh-built spheres
+/// against the primitive ones and Hertz.
+fn report_hertz(md: &mut String) {
+    writeln!(md, "### Physics through a mesh: the Hertz impact\n").unwrap();
+    let runs: Vec<(u32, &str, Option<StoredRun>)> = HERTZ_MESH_RES
+        .iter()
+        .flat_map(|&res| {
+            ["layers", "lattice", "mesh"]
+                .into_iter()
+                .map(move |layout| (res, layout, load(&hertz_run(res, layout).0)))
+        })
+        .collect();
+    if !runs.iter().any(|(_, l, r)| *l == "mesh" && r.is_some()) {
+        writeln!(
+            md,
+            "Not run yet: `cargo run --release -p sph-validation --bin validate -- geometry`.\n"
+        )
+        .unwrap();
+        return;
+    }
+    writeln!(
+        md,
+        "Two elastic spheres meeting head-on (`hertz-impact-3d` with UL-ENOG, κ = 1, its \
+         defaults: R = 0.05 m, 1 m/s each, E = 1e7 Pa, ν = 0.4, ρ = 1200 kg/m³) with the \
+         spheres built three ways: `layers` (the case's default: concentric layers on Fibonacci \
+         lattices), `lattice` (cut from a cubic lattice: a staircase surface) and `mesh` \
+         (`layout = mesh`: body-fitted to a 128-segment UV-sphere triangle mesh, \
+         `sph_geometry::fit` with its default {DEFAULT_RELAX_STEPS} relaxation steps, the \
+         right sphere the mirror image of the left, as for the others). Contact time `t_c` and \
+         peak force `F_max` from the contact-force series, against Hertz's closed form for \
+         each run's own mass (`m/m_exact`: the particles' total volume over 4πR³/3, from the \
+         ratio of the run's Hertz time to the exact sphere's, `t_c ∝ m^(2/5)`), and the mesh \
+         run against the `layers` one (`mesh − layers`). The commands are in each run's \
+         stored JSON (`validation/results/hertz-ul-enog-r<R/dp>-k1[-lattice|-mesh].json`).\n"
+    )
+    .unwrap();
+    let exact = {
+        use sph_cases::cases::hertz_impact_3d::{hertz_impact, HertzTarget};
+        let (r, rho) = (0.05f64, 1200.0);
+        let m = rho * 4.0 / 3.0 * PI * r.powi(3);
+        hertz_impact(HertzTarget::Sphere, r, m, 1e7, 0.4, 1.0)
+    };
+    writeln!(
+        md,
+        "Hertz with the exact mass: t_c = {:.4} ms, F_max = {:.1} N.\n",
+        1e3 * exact.contact_time,
+        exact.max_force
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "| R/dp | layout | particles per sphere | m/m_exact | t_c (ms) | t_c vs Hertz | F_max (N) | F_max vs Hertz | t_c mesh − layers | F_max mesh − layers | patch particles / ideal | patch depth mean ± RMS (min–max), dp | pairs < dp at δ_max/2, δ_max |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|").unwrap();
+    let num = |r: &StoredRun, k: &str| r.num(k).unwrap_or(f64::NAN);
+    for &res in &HERTZ_MESH_RES {
+        let layers = runs
+            .iter()
+            .find(|(r, l, _)| *r == res && *l == "layers")
+            .and_then(|x| x.2.as_ref());
+        for (_, layout, run) in runs.iter().filter(|(r, _, _)| *r == res) {
+            let Some(run) = run else { continue };
+            let (tc, f) = (num(run, "contact_time"), num(run, "max_force"));
+            let (tt, ft) = (
+                num(run, "contact_time_theory"),
+                num(run, "max_force_theory"),
+            );
+            let mass = (tt / exact.contact_time).powf(2.5);
+            let (dt, df) = match (layers, *layout == "mesh") {
+                (Some(p), true) => (
+                    format!("{:+.2} %", 100.0 * (tc / num(p, "contact_time") - 1.0)),
+                    format!("{:+.2} %", 100.0 * (f / num(p, "max_force") - 1.0)),
+                ),
+                _ => (String::new(), String::new()),
+            };
+            let patch = match *layout {
+                "mesh" => run
+                    .summary
+                    .get("snapshots")
+                    .and_then(|s| s.get("contact_patch"))
+                    .cloned(),
+                other => primitive_patch(other, res),
+            };
+            let dash = || "–".to_string();
+            let patch = patch.map_or((dash(), dash(), dash()), |p| {
+                let g = |k: &str| p[k].as_f64().unwrap_or(f64::NAN);
+                (
+                    format!("{} / {:.1}", p["particles"], g("ideal")),
+                    format!(
+                        "{:.3} ± {:.3} ({:.3}–{:.3})",
+                        g("depth_mean"),
+                        g("depth_rms"),
+                        g("depth_min"),
+                        g("depth_max")
+                    ),
+                    format!("{}, {}", p["pairs_half_approach"], p["pairs_max_approach"]),
+                )
+            });
+            writeln!(
+                md,
+                "| {res} | {layout} | {} | {mass:.4} | {:.4} | {:+.2} % | {f:.1} | {:+.2} % | {dt} | {df} | {} | {} | {} |",
+                run.summary
+                    .get("sphere_particles")
+                    .cloned()
+                    .unwrap_or_default(),
+                1e3 * tc,
+                100.0 * (tc / tt - 1.0),
+                100.0 * (f / ft - 1.0),
+                patch.0,
+                patch.1,
+                patch.2,
+            )
+            .unwrap();
+        }
+    }
+    writeln!(md).unwrap();
+    // mesh − layers and lattice − layers on t_c, resolution by resolution.
+    let diff = |res: u32, layout: &str| -> Option<f64> {
+        let find = |l: &str| {
+            runs.iter()
+                .find(|(r, x, _)| *r == res && *x == l)
+                .and_then(|x| x.2.as_ref())
+                .and_then(|r| r.num("contact_time"))
+        };
+        Some(100.0 * (find(layout)? / find("layers")? - 1.0))
+    };
+    let list = |layout: &str| -> String {
+        HERTZ_MESH_RES
+            .iter()
+            .filter_map(|&r| diff(r, layout).map(|d| format!("{d:+.1} % at {r}")))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    // The share of the lattice − layers difference that relaxing the surface layer removes
+    // (the mesh's fit starts from the lattice fill: same interior, same count).
+    let removed: Vec<String> = HERTZ_MESH_RES
+        .iter()
+        .filter_map(|&r| {
+            let (m, l) = (diff(r, "mesh")?, diff(r, "lattice")?);
+            Some(format!("{:.0} % at {r}", 100.0 * (1.0 - m / l)))
+        })
+        .collect();
+    writeln!(
+        md,
+        "The mesh-built spheres do not meet the 1 % asked of them against `layers` at these \
+         resolutions: `t_c` mesh − layers is {}. The difference falls with dp (about first \
+         order), and the mesh run is the closer to Hertz's `t_c` at every resolution. What it \
+         is not, measured: the mesh's faceting (6·10⁻⁴ R at most, 0.6–1.2 % of dp here; \
+         0.3 % of the contact radius a), the mass (each row is against Hertz for its own mass), or the position \
+         of the surface: over the Hertz contact radius `a = √(R δ_max/2)` = 0.21 R the fitted \
+         outer layer lies dp/2 deep to 0.012 dp, as the `layers` one does exactly. The pairs \
+         closer than dp when the undeformed spheres overlap by δ_max/2 and δ_max (what the \
+         contact density starts from) differ at R/dp = 10 (the fit packs 16 particles in the \
+         patch where 13.7 fit a square array), but not in the direction of `t_c` at 15 and 20 \
+         (as many or fewer pairs, yet a shorter contact), so the contact layer alone does not \
+         explain it either. The measured decomposition is against the lattice: the fit starts \
+         from the `lattice` fill (same interior, same count) and only moves the particles near \
+         the surface, and that removes {} of the lattice − layers difference ({}); the \
+         remaining {} lies between a lattice-interior body with a relaxed surface and \
+         concentric shells, i.e. in the arrangement of the particles inside and along the \
+         surface, which the contact samples at a = 2–4 dp. At R/dp = 20, where both are close \
+         to Hertz, F_max groups by interior (mesh and lattice within 0.5 % of each other, \
+         layers 1.4–1.8 % below both), consistent with that but not a proof; separating the \
+         two would take a run with concentric shells inside and the fitted layer outside.\n",
+        list("mesh"),
+        removed.join(", "),
+        list("lattice"),
+        list("mesh")
+    )
+    .unwrap();
+}
+
+/// The breathing sphere's table.
+fn report_breathing(md: &mut String) -> Result<(), String> {
     writeln!(md, "### Physics through a mesh: the breathing sphere\n").unwrap();
     let path = results_dir().join(FILE);
     let Ok(text) = std::fs::read_to_string(&path) else {
@@ -242,11 +575,13 @@ pub fn report(md: &mut String) -> Result<(), String> {
          velocity field; the period from the zero crossings of `Σ V (x − c)·v`, against Lamb's \
          closed form `T = 2π R/(ξ c_p)` with `(λ + 2μ) j₀(ξ) = 4μ j₁(ξ)/ξ` (ξ = {:.5}, T = \
          {:.4e} s). The particles come from the exact ball on the lattice (`primitive`), from a \
-         128-segment UV-sphere mesh filled and relaxed ({DEFAULT_RELAX_STEPS} steps, `mesh`) \
+         128-segment UV-sphere mesh fitted by default (`mesh`: its count brought to the mesh's \
+         volume by removing outer-layer particles, then relaxed, {DEFAULT_RELAX_STEPS} steps) \
          and from the same mesh's lattice fill alone (`mesh-lattice`). The exact ball \
          and the mesh's lattice fill are the same particles when their columns agree (the \
-         mesh's inside test against the exact one at every lattice point); the relaxed mesh \
-         differs from both only by its surface layer, moved from the lattice's staircase onto \
+         mesh's inside test against the exact one at every lattice point); the fitted mesh \
+         differs from both only by its surface layer, thinned to the mesh's volume and moved \
+         from the lattice's staircase onto \
          the sphere: `mesh − primitive` is what body fitting changes in the physics, and each \
          column's distance from Lamb is the method's error with that surface.\n",
         breathing_root(NU),

@@ -1,6 +1,7 @@
 //! Fills a triangle mesh with body-fitted particles and prints where the time and the memory
 //! go: writing and reading the STL file, the repair and hierarchy (`MeshSolid::new`), the
-//! lattice fill (winding numbers on every core), the relaxation and the report. Issue 41's
+//! lattice fill (winding numbers on every core), the count match (the fill's count brought to
+//! the enclosed volume, `sph_geometry::count`), the relaxation and the report. Issue 41's
 //! target: a 1e5-triangle mesh into 1e6 particles on 2 cores under 60 s, and under 1 KiB of
 //! memory per particle beyond the particle set itself.
 //!
@@ -13,6 +14,7 @@
 use sph_core::glam::DVec3;
 use sph_core::kernel::WendlandC2;
 use sph_core::D3;
+use sph_geometry::count::match_count;
 use sph_geometry::fit::{lattice_points, relax, report, HalfSpaceIntegrals, RELAX_H_OVER_DP};
 use sph_geometry::generate::{Lattice, ParticleSet, Shape};
 use sph_geometry::mesh::{MeshSolid, Placement, TriMesh};
@@ -81,6 +83,10 @@ fn main() {
     let lattice = Lattice::<D3>::new(dp, solid.bounds().0).unwrap_or_else(|e| fail(e));
     let mut x = lattice_points(&lattice, &solid).unwrap_or_else(|e| fail(e));
     times.push(("lattice fill", t.elapsed().as_secs_f64()));
+    let lattice_count = x.len();
+    let t = Instant::now();
+    let change = match_count(&mut x, &solid, &lattice).unwrap_or_else(|e| fail(e));
+    times.push(("count match", t.elapsed().as_secs_f64()));
     let count = x.len();
     let t = Instant::now();
     let kernel = WendlandC2::<D3>::from_spacing(dp, RELAX_H_OVER_DP).unwrap_or_else(|e| fail(e));
@@ -112,6 +118,9 @@ fn main() {
     let json = serde_json::json!({
         "triangles": solid.mesh().triangles.len(),
         "particles": count,
+        "lattice_particles": lattice_count,
+        "removed": change.removed,
+        "added": change.added,
         "dp": dp,
         "relax_steps": steps,
         "threads": rayon::current_num_threads(),

@@ -2,6 +2,18 @@
 
 pub use sph_driver::run::*;
 
+/// The material-history fields a case writes beside its own where the solver offers them
+/// (plastic bodies: `plastic_strain`, and `temperature` with adiabatic heating).
+pub const HISTORY_FIELDS: [&str; 2] = ["plastic_strain", "temperature"];
+
+/// A case's output fields: `base`, then each of [`HISTORY_FIELDS`] that `offered` (the
+/// solver's `field_names`) contains, so an elastic run writes exactly `base`.
+pub fn case_fields(base: &[&'static str], offered: &[&'static str]) -> Vec<&'static str> {
+    let mut fields = base.to_vec();
+    fields.extend(HISTORY_FIELDS.iter().filter(|f| offered.contains(f)));
+    fields
+}
+
 /// The output-schedule keys every case accepts: `snapshot_interval` and `snapshots` (0 and 50
 /// by default: a snapshot every `end_time/50`, 51 frames; `snapshots = 1` for the first and
 /// last only), `monitor_interval` (0: end_time/200), `probe_interval` (0: every step) and

@@ -180,3 +180,37 @@ fn tl_bar_shortens_like_ul_og() {
         );
     }
 }
+
+/// The snapshots of a plastic run carry the equivalent plastic strain (`plastic_strain`) and,
+/// with Johnson–Cook's adiabatic heating, `temperature`, for UL and TL (the output
+/// field); the last snapshot's largest ε̄p is the summary's `max_plastic_strain`.
+#[test]
+fn plastic_runs_write_the_plastic_strain_field() {
+    for method in ["ul-og", "tl"] {
+        let dir =
+            std::env::temp_dir().join(format!("sph-taylor-fields-{method}-{}", std::process::id()));
+        let c = find_case("taylor-bar-3d").unwrap();
+        let mut p = c.params_for(method);
+        for a in ["resolution=2", "end_time=5e-6", "snapshots=1"] {
+            p.apply_assignment(a).unwrap();
+        }
+        let options = RunOptions {
+            output: Some(dir.join("bar")),
+            ..Default::default()
+        };
+        let (record, summary) = c.run(method, &p, &options).unwrap();
+        assert!(record.failure.is_none(), "{method}: {:?}", record.failure);
+        let file = record.file.expect("a results file");
+        let contents = sph_output::read_file(&file).unwrap();
+        let last = contents.snapshots.last().unwrap();
+        let eps = last
+            .dataset("plastic_strain")
+            .and_then(|d| d.as_f64())
+            .unwrap_or_else(|| panic!("{method}: no plastic_strain in the snapshot"));
+        assert!(last.dataset("temperature").is_some(), "{method}");
+        let max = eps.iter().copied().fold(0.0, f64::max);
+        assert!(max > 0.0, "{method}: the struck end yields");
+        assert_eq!(max, f(&summary, "max_plastic_strain"), "{method}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

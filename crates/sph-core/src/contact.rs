@@ -8,7 +8,7 @@
 //! neighbours, so the body's own stress does not already act between them).
 
 use crate::neighbor::distance_squared;
-use crate::{CellGrid, Dim, Error, NeighborList};
+use crate::{CellGrid, Dim, Error, NeighborList, Series};
 
 /// Which pairs may touch: the body of every particle and the bodies with self-contact.
 #[derive(Clone, Debug, PartialEq)]
@@ -74,6 +74,29 @@ impl ContactBodies {
             off.push(ix.len());
         }
         NeighborList::from_parts(off, ix)
+    }
+}
+
+/// The total contact force on each body (the other bodies' push, and with self-contact the
+/// body's own, which sums to zero), recorded per body as the series `contact_force_<body>`
+/// (columns `x`, `y`, `z` in 3D; [`crate::conventions::CONTACT_SERIES`]). One recording for
+/// every family that has body-body contact.
+pub fn body_force_series(bodies: usize, dim: usize) -> Vec<Series> {
+    const AXES: [&str; 3] = ["x", "y", "z"];
+    (0..bodies)
+        .map(|b| {
+            Series::new(&format!("contact_force_{b}"), &AXES[..dim])
+                .with_description(crate::conventions::CONTACT_SERIES)
+        })
+        .collect()
+}
+
+/// Appends one row, each body's total contact force `forces[b]`, to the series of
+/// [`body_force_series`].
+pub fn record_body_forces<D: Dim>(series: &mut [Series], time: f64, forces: &[D::Vector]) {
+    for (s, &f) in series.iter_mut().zip(forces) {
+        let row: Vec<f64> = (0..D::D).map(|k| D::component(f, k)).collect();
+        s.push(time, &row);
     }
 }
 

@@ -27,6 +27,9 @@
 //! last measured depth exceeds how far it has moved since is certainly inside: its distance
 //! skips the inside test (a winding number on a mesh, the costly half of the query), and its
 //! push from the surface is not evaluated at all once that depth exceeds the kernel's support.
+//! The kernel sum runs over neighbour lists with a skin ([`SKIN_OVER_DP`]), rebuilt only once
+//! some particle has moved half the skin since the last build: a step moves a particle by at
+//! most `h/32`, so the lists serve several steps where a cell grid was rebuilt every step.
 //!
 //! # Report
 //! [`FitReport`]: the particle count; the total particle volume `N dp^d` against the enclosed
@@ -42,11 +45,17 @@
 //! A fill of cells of size `dp` holds `N dp^d`, which misses the enclosed volume by the cells the
 //! surface cuts: at 20 particles across, +0.94 % for a sphere mesh of 128 segments (+0.84 % from
 //! the exact ball), +0.40 % for a torus, 0 for a cube on the lattice (docs/validation.md,
-//! "Geometry"); relaxation moves particles, not their count, so it does not change this. With [`FitOptions::match_volume`] (off by
-//! default: see its documentation for the bias it brings) every particle's volume is scaled by `V_mesh / (N dp^d)` after the relaxation, so the
-//! body's total volume, and with the density its mass, is the enclosed volume's; the report keeps
-//! the raw `N dp^d` in [`FitReport::volume`] and the factor in [`FitReport::volume_scale`].
+//! "Geometry", the rows with the count match off). By default ([`FitOptions::match_count`]) the
+//! count is brought to `round(V_mesh / dp^d)` before the relaxation ([`crate::count`]: surplus
+//! particles removed from the outer layer, or a deficit added just inside the surface, spread
+//! evenly), so every particle keeps the volume `dp^d` and `|N dp^d − V_mesh| ≤ dp^d / 2`; the
+//! relaxation then evens the layer out. [`FitOptions::match_volume`] (off by default) also
+//! scales every particle's volume by `V_mesh / (N dp^d)` after the relaxation, which leaves
+//! at most that half particle (a factor within `1 ± 1/(2N)`) and, without the count match,
+//! the whole lattice error (see its documentation for the bias that brings); the report keeps
+//! the unscaled `N dp^d` in [`FitReport::volume`] and the factor in [`FitReport::volume_scale`].
 
+use crate::count::match_count;
 use crate::generate::{Lattice, ParticleSet};
 use crate::Boundary;
 use rayon::prelude::*;
@@ -69,15 +78,23 @@ pub const DEFAULT_RELAX_STEPS: usize = 200;
 /// How to fit particles to a boundary.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitOptions {
-    /// Relaxation steps after the lattice fill (0: the lattice fill as it is).
+    /// Relaxation steps after the lattice fill (0: the fill as it is, count-matched by
+    /// [`Self::match_count`]).
     pub relax_steps: usize,
     /// Scale every particle's volume by `V_mesh / (N dp^d)` so the body's total volume is the
     /// boundary's enclosed volume (module documentation, "Volume"). Default `false`: the
     /// factor changes `Σ_j V_j ∇W_ij` with it, so the sums that no correction matrix
     /// normalises (TL-HF's remaining stress and Laplacian, UL's forces) get stiffer by the
-    /// same factor (≈ 1 % at 20 across), a bias of the dynamics of the order of the volume
-    /// error it removes; turn it on where the total mass matters more than that.
+    /// same factor, a bias of the dynamics of the order of the volume error it removes (≈ 1 %
+    /// at 20 across without [`Self::match_count`]; with it the factor is within `1 ± 1/(2N)`,
+    /// the rounding of the count). Turn it on where the total mass must be the enclosed
+    /// volume's to round-off.
     pub match_volume: bool,
+    /// Bring the count to the enclosed volume before the relaxation: `N = round(V / dp^d)`
+    /// particles of volume `dp^d` ([`crate::count::match_count`]: surplus removed from the
+    /// outer layer, or a deficit added just inside the surface, spread evenly over it).
+    /// Default `true`; `false` keeps the lattice fill's count.
+    pub match_count: bool,
 }
 
 impl Default for FitOptions {
@@ -85,6 +102,7 @@ impl Default for FitOptions {
         Self {
             relax_steps: DEFAULT_RELAX_STEPS,
             match_volume: false,
+            match_count: true,
         }
     }
 }
@@ -94,6 +112,8 @@ impl Default for FitOptions {
 pub struct FitReport {
     /// Number of particles.
     pub particles: usize,
+    /// Number of particles of the lattice fill, before [`FitOptions::match_count`] changed it.
+    pub lattice_particles: usize,
     /// Total particle volume (area in 2D) of the fill, `N dp^d`, before any scaling.
     pub volume: f64,
     /// The volume (area) the boundary encloses.
@@ -285,7 +305,8 @@ impl HalfSpaceIntegrals {
 }
 
 /// The body-fitted particles of `boundary` at spacing `dp`: the lattice fill (cell faces
-/// through the boundary's lower bound), relaxed ([`FitOptions::relax_steps`]), each particle of
+/// through the boundary's lower bound), its count brought to the enclosed volume
+/// ([`FitOptions::match_count`]), relaxed ([`FitOptions::relax_steps`]), each particle of
 /// volume `dp^d` scaled by [`FitReport::volume_scale`] ([`FitOptions::match_volume`]), and the
 /// report.
 ///
@@ -313,12 +334,17 @@ pub fn fit<D: Dim>(
             ),
         ));
     }
+    let lattice_count = x.len();
+    if options.match_count {
+        match_count(&mut x, boundary, &lattice)?;
+    }
     let kernel = WendlandC2::<D>::from_spacing(dp, RELAX_H_OVER_DP)?;
     let tables = HalfSpaceIntegrals::new(&kernel);
     relax(&mut x, boundary, dp, &kernel, &tables, options.relax_steps)?;
     let n = x.len();
     let raw = ParticleSet::from_parts(x, vec![dp.powi(D::D as i32); n])?.with_spacing(dp);
     let mut report = report(&raw, boundary, dp, &kernel, &tables, options.relax_steps)?;
+    report.lattice_particles = lattice_count;
     if !options.match_volume {
         return Ok((raw, report));
     }
@@ -338,6 +364,58 @@ pub fn volume_scale(particles: f64, mesh: f64) -> f64 {
     } else {
         1.0
     }
+}
+
+/// The skin of the relaxation's neighbour lists, in units of `dp`: the lists hold the pairs
+/// within `cutoff + skin` and are rebuilt once some particle has moved more than `skin / 2`
+/// since the last build (Verlet 1967, "Computer \"experiments\" on classical fluids. I.",
+/// Phys. Rev. 159; Allen & Tildesley, "Computer Simulation of Liquids", §5.3.1), which no
+/// step can do before `skin / 2 / (h/32)` ≈ 5 steps.
+pub const SKIN_OVER_DP: f64 = 0.4;
+
+/// Particles per neighbour-list chunk (each chunk owns its list, rebuilt in place).
+const LIST_CHUNK: usize = 512;
+
+/// The neighbour lists of `LIST_CHUNK` consecutive particles.
+#[derive(Default)]
+struct NeighbourChunk {
+    /// `start[k] .. start[k + 1]`: particle `k`'s neighbours in `list`.
+    start: Vec<u32>,
+    list: Vec<u32>,
+}
+
+impl NeighbourChunk {
+    fn of(&self, k: usize) -> &[u32] {
+        &self.list[self.start[k] as usize..self.start[k + 1] as usize]
+    }
+}
+
+/// (Re)builds `lists` as the pairs of `x` closer than `radius` (self excluded), each
+/// particle's neighbours in the grid's candidate order: the same for any thread count.
+fn build_lists<D: Dim>(
+    lists: &mut Vec<NeighbourChunk>,
+    x: &[D::Vector],
+    radius: f64,
+) -> Result<(), Error> {
+    let grid = CellGrid::<D>::build(x, radius)?;
+    lists.resize_with(x.len().div_ceil(LIST_CHUNK), NeighbourChunk::default);
+    let r2 = radius * radius;
+    lists.par_iter_mut().enumerate().for_each(|(c, chunk)| {
+        chunk.start.clear();
+        chunk.list.clear();
+        chunk.start.push(0);
+        let end = ((c + 1) * LIST_CHUNK).min(x.len());
+        for i in c * LIST_CHUNK..end {
+            let xi = x[i];
+            grid.for_each_candidate_at(xi, |j, xj| {
+                if j as usize != i && D::norm_squared(xi - xj) < r2 {
+                    chunk.list.push(j);
+                }
+            });
+            chunk.start.push(chunk.list.len() as u32);
+        }
+    });
+    Ok(())
 }
 
 /// Relaxes `x` in place (module documentation).
@@ -366,16 +444,26 @@ pub fn relax<D: Dim>(
     // measured again (the interior of a fill barely moves and is measured once).
     let mut depth = vec![f64::NEG_INFINITY; x.len()];
     let mut drift = vec![0.0; x.len()];
+    // The outward normal at the last measurement; a particle not moved since (`drift` 0) has
+    // its depth and normal without a new query.
+    let mut normal = vec![D::zero(); x.len()];
+    // Neighbour lists to `cutoff + skin`, rebuilt once some particle has moved more than
+    // `skin / 2` since the last build (then no pair within `cutoff` can be missing).
+    let skin = SKIN_OVER_DP * dp;
+    let cutoff2 = cutoff * cutoff;
+    let mut lists: Vec<NeighbourChunk> = Vec::new();
+    let mut since_build = vec![0.0; x.len()];
     for step in 0..steps {
         if step % RESELECT == 0 {
             depth
                 .par_iter_mut()
                 .zip(drift.par_iter_mut())
+                .zip(normal.par_iter_mut())
                 .zip(x.par_iter())
-                .for_each(|((d, moved), &xi)| {
+                .for_each(|(((d, moved), nd), &xi)| {
                     if *d - *moved < reach {
-                        *d = -depth_measure(boundary, xi, *d - *moved).0;
-                        *moved = 0.0;
+                        let (phi, n) = depth_measure(boundary, xi, *d - *moved);
+                        (*d, *nd, *moved) = (-phi, n, 0.0);
                     }
                 });
             near = (0..x.len() as u32)
@@ -386,29 +474,48 @@ pub fn relax<D: Dim>(
                 is_near[i as usize] = true;
             }
         }
-        let grid = CellGrid::<D>::build(x, cutoff)?;
+        if lists.is_empty() || 2.0 * since_build.iter().copied().fold(0.0, f64::max) > skin {
+            build_lists::<D>(&mut lists, x, cutoff + skin)?;
+            since_build.iter_mut().for_each(|m| *m = 0.0);
+        }
         let xs: &[D::Vector] = x;
-        accel.par_iter_mut().enumerate().for_each(|(i, a)| {
-            let xi = xs[i];
-            let mut s = D::zero();
-            grid.for_each_candidate_at(xi, |j, xj| {
-                if j as usize == i {
-                    return;
-                }
-                let d = xi - xj;
-                let r = D::norm(d);
-                if r < cutoff && r > 0.0 {
-                    s += d * (kernel.dw_dr(r) * v / r);
+        accel
+            .par_chunks_mut(LIST_CHUNK)
+            .zip(depth.par_chunks_mut(LIST_CHUNK))
+            .zip(drift.par_chunks_mut(LIST_CHUNK))
+            .zip(normal.par_chunks_mut(LIST_CHUNK))
+            .zip(lists.par_iter())
+            .enumerate()
+            .for_each(|(c, ((((acc, depth), drift), normal), list))| {
+                for (k, a) in acc.iter_mut().enumerate() {
+                    let i = c * LIST_CHUNK + k;
+                    let xi = xs[i];
+                    let mut s = D::zero();
+                    for &j in list.of(k) {
+                        let d = xi - xs[j as usize];
+                        // (The square root only for pairs within the cutoff: a third of a
+                        // list lies in the skin.)
+                        let r2 = D::norm_squared(d);
+                        if r2 < cutoff2 && r2 > 0.0 {
+                            let r = r2.sqrt();
+                            s += d * (kernel.dw_dr(r) * v / r);
+                        }
+                    }
+                    // The surface's push vanishes beyond the kernel's reach (P(d ≥ cutoff) = 0).
+                    let min_depth = depth[k] - drift[k];
+                    if is_near[i] && min_depth < cutoff {
+                        // Measured where it stands (not moved since): the same query's result.
+                        let (phi, n) = if drift[k] == 0.0 && depth[k].is_finite() {
+                            (-depth[k], normal[k])
+                        } else {
+                            depth_measure(boundary, xi, min_depth)
+                        };
+                        (depth[k], normal[k], drift[k]) = (-phi, n, 0.0);
+                        s += n * tables.plane((-phi).max(0.0));
+                    }
+                    *a = s * -2.0;
                 }
             });
-            // The surface's push vanishes beyond the kernel's reach (P(d ≥ cutoff) = 0).
-            let min_depth = depth[i] - drift[i];
-            if is_near[i] && min_depth < cutoff {
-                let (phi, n) = depth_measure(boundary, xi, min_depth);
-                s += n * tables.plane((-phi).max(0.0));
-            }
-            *a = s * -2.0;
-        });
         let amax = accel
             .par_iter()
             .map(|&a| D::norm(a))
@@ -420,14 +527,16 @@ pub fn relax<D: Dim>(
         x.par_iter_mut()
             .zip(accel.par_iter())
             .zip(drift.par_iter_mut())
-            .for_each(|((xi, &a), moved)| {
-                let dx = a * (0.5 * dt2);
-                *xi += dx;
-                *moved += D::norm(dx);
+            .zip(since_build.par_iter_mut())
+            .for_each(|(((xi, &a), moved), since)| {
+                let dx = D::norm(a * (0.5 * dt2));
+                *xi += a * (0.5 * dt2);
+                *moved += dx;
+                *since += dx;
             });
         // Surface bounding: nothing beyond depth dp/2.
         let bound = 0.5 * dp;
-        let moved: Vec<(u32, D::Vector)> = near
+        let measured: Vec<(u32, f64, D::Vector)> = near
             .par_iter()
             .filter_map(|&i| {
                 let (xi, min_depth) = (x[i as usize], depth[i as usize] - drift[i as usize]);
@@ -436,12 +545,21 @@ pub fn relax<D: Dim>(
                     return None;
                 }
                 let (phi, n) = depth_measure(boundary, xi, min_depth);
-                (phi > -bound).then(|| (i, xi - n * (phi + bound)))
+                Some((i, phi, n))
             })
             .collect();
-        for (i, xi) in moved {
-            drift[i as usize] += D::norm(xi - x[i as usize]);
-            x[i as usize] = xi;
+        for (i, phi, n) in measured {
+            let i = i as usize;
+            if phi > -bound {
+                let xi = x[i] - n * (phi + bound);
+                let dx = D::norm(xi - x[i]);
+                drift[i] += dx;
+                since_build[i] += dx;
+                x[i] = xi;
+            } else {
+                // Not moved: the measurement stands for the next step's push.
+                (depth[i], normal[i], drift[i]) = (-phi, n, 0.0);
+            }
         }
     }
     Ok(())
@@ -513,6 +631,7 @@ pub fn report<D: Dim>(
     let var = volumes.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
     Ok(FitReport {
         particles: x.len(),
+        lattice_particles: x.len(),
         volume: set.total_volume(),
         mesh_volume: boundary.volume(),
         volume_scale: 1.0,
@@ -554,6 +673,45 @@ mod tests {
             assert!((q - by_p).abs() < 2e-5, "d = {d}: Q {q} against ∫P {by_p}");
         }
         assert_eq!(t.half_space(support), 0.0);
+    }
+
+    /// The lists' claim: after every particle has moved less than `skin / 2` since the build,
+    /// every pair closer than `cutoff` is in the lists (so the sum over the lists is the sum
+    /// over all pairs within `cutoff`, the particles a per-step grid would give).
+    #[test]
+    fn neighbour_lists_hold_every_pair_within_cutoff_until_a_half_skin_move() {
+        let (cutoff, skin) = (2.6, SKIN_OVER_DP);
+        // A jittered lattice of 12³ (a deterministic hash for the jitter).
+        let jitter = |i: usize, k: usize| {
+            let h = (i as u64 * 3 + k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 11;
+            h as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut x: Vec<glam::DVec3> = (0..12 * 12 * 12)
+            .map(|i| {
+                glam::DVec3::new((i % 12) as f64, (i / 12 % 12) as f64, (i / 144) as f64)
+                    + glam::DVec3::new(jitter(i, 0), jitter(i, 1), jitter(i, 2)) * 0.3
+            })
+            .collect();
+        let mut lists = Vec::new();
+        build_lists::<D3>(&mut lists, &x, cutoff + skin).unwrap();
+        // Move every particle by just under skin/2 in a varying direction.
+        for (i, xi) in x.iter_mut().enumerate() {
+            let d = glam::DVec3::new(jitter(i, 5), jitter(i, 6), jitter(i, 7));
+            *xi += d.normalize() * (0.499 * skin);
+        }
+        let mut pairs = 0;
+        for i in 0..x.len() {
+            let chunk = &lists[i / LIST_CHUNK];
+            let listed: Vec<u32> = chunk.of(i % LIST_CHUNK).to_vec();
+            for j in 0..x.len() {
+                if j != i && (x[i] - x[j]).length() < cutoff {
+                    assert!(listed.contains(&(j as u32)), "pair {i} {j} missing");
+                    pairs += 1;
+                }
+            }
+            assert!(!listed.contains(&(i as u32)));
+        }
+        assert!(pairs > 50 * x.len(), "{pairs}");
     }
 
     #[test]

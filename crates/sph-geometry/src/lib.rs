@@ -39,6 +39,7 @@
 pub use glam;
 
 mod bvh;
+pub mod count;
 pub mod fit;
 pub mod generate;
 pub mod mesh;
@@ -69,6 +70,53 @@ pub trait Boundary<D: Dim>: Shape<D> {
 
     /// The name errors quote (the file it was read from).
     fn name(&self) -> &str;
+}
+
+/// A mesh solid is a tool surface ([`sph_core::tool::ToolShape::Surface`]): its signed
+/// distance ([`Boundary::signed_distance`]: the closest point by the BVH, the side by the
+/// generalized winding number) and bounds.
+impl sph_core::tool::SignedDistance<sph_core::D3> for mesh::MeshSolid {
+    fn signed_distance(&self, x: glam::DVec3) -> (f64, glam::DVec3) {
+        Boundary::<sph_core::D3>::signed_distance(self, x)
+    }
+
+    fn bounds(&self) -> (glam::DVec3, glam::DVec3) {
+        Shape::<sph_core::D3>::bounds(self)
+    }
+}
+
+/// An outline region is a 2D tool surface ([`sph_core::tool::ToolShape::Surface`]).
+impl sph_core::tool::SignedDistance<sph_core::D2> for outline::OutlineSolid {
+    fn signed_distance(&self, x: glam::DVec2) -> (f64, glam::DVec2) {
+        Boundary::<sph_core::D2>::signed_distance(self, x)
+    }
+
+    fn bounds(&self) -> (glam::DVec2, glam::DVec2) {
+        Shape::<sph_core::D2>::bounds(self)
+    }
+}
+
+/// A mesh or outline file is a tool surface of its dimension
+/// ([`sph_core::tool::ToolShape::Surface`]; what scene files build for a `[[tool]]` whose
+/// shape is `mesh = { … }` or `outline = { … }`).
+impl<D: Dim> sph_core::tool::SignedDistance<D> for FileSolid<D> {
+    fn signed_distance(&self, x: D::Vector) -> (f64, D::Vector) {
+        Boundary::<D>::signed_distance(self, x)
+    }
+
+    fn bounds(&self) -> (D::Vector, D::Vector) {
+        Shape::<D>::bounds(self)
+    }
+}
+
+impl<D: Dim> FileSolid<D> {
+    /// This solid as a rigid tool's shape ([`sph_core::tool::ToolShape::Surface`]).
+    ///
+    /// # Errors
+    /// Bounds that are not finite ([`sph_core::tool::ToolShape::surface`]).
+    pub fn into_tool_shape(self) -> Result<sph_core::tool::ToolShape<D>, Error> {
+        sph_core::tool::ToolShape::surface(std::sync::Arc::new(self))
+    }
 }
 
 /// A one-line error about the geometry file `file`.

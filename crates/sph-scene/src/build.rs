@@ -428,17 +428,20 @@ impl Scene {
         let mut velocities = Vec::new();
         let mut dp = f64::INFINITY;
         let mut dps = Vec::new();
+        let mut solids = Vec::new();
         for (k, b) in spec.bodies.iter().enumerate() {
-            let (part, v, _) = self.body::<D>(k, b)?;
+            let ((part, v, _), solid) = self.body_and_solid::<D>(k, b)?;
             self.check_body_size(k, b, &part)?;
             let r = set
                 .extend(&part)
                 .map_err(|e| self.core(b.span(), &format!("body[{k}]"), e))?;
             velocities.extend(std::iter::repeat_n(v, r.len()));
             ranges.push((b.get_ref().name.clone(), r));
+            solids.push(solid);
             dp = dp.min(b.get_ref().dp);
             dps.push(b.get_ref().dp);
         }
+        self.check_overlaps(&set, &ranges, &solids)?;
         let n = set.len();
         let body_of: Vec<u32> = (0..n)
             .map(|i| ranges.iter().position(|(_, r)| r.contains(&i)).unwrap_or(0) as u32)

@@ -449,7 +449,8 @@ pub struct ProbeSpec {
 pub struct ToolSpec {
     /// Name (`/series/<name>` records its travel and reaction).
     pub name: String,
-    /// `box` or `ball`, or `half-space = { point = [..], normal = [..] }`.
+    /// `box`, `ball`, `half-space = { point = [..], normal = [..] }`, or a `mesh` (3D) or
+    /// `outline` (2D) file.
     pub shape: ToolShapeSpec,
     /// Direction of travel (default: no motion).
     pub direction: Option<Vec<f64>>,
@@ -514,6 +515,56 @@ pub enum ToolShapeSpec {
         /// Outward normal.
         normal: Vec<f64>,
     },
+    /// A closed triangle mesh (3D), read and placed as a body's `mesh` shape
+    /// ([`ShapeSpec::Mesh`]); its surface is the tool's.
+    Mesh {
+        /// The file, relative to the scene file.
+        file: String,
+        /// Scale factor (default 1).
+        scale: Option<f64>,
+        /// Rotation about an axis through the origin, after scaling (default none).
+        rotate: Option<RotateSpec>,
+        /// Translation, applied last (default none).
+        translate: Option<Vec<f64>>,
+    },
+    /// A closed outline (2D), read and placed as a body's `outline` shape
+    /// ([`ShapeSpec::Outline`]).
+    Outline {
+        /// The file, relative to the scene file.
+        file: String,
+        /// Scale factor (default 1).
+        scale: Option<f64>,
+        /// Rotation about z, after scaling (default none).
+        rotate: Option<RotateSpec>,
+        /// Translation, applied last (default none).
+        translate: Option<Vec<f64>>,
+    },
+}
+
+impl ToolShapeSpec {
+    /// A mesh's or outline's file and placement (`None` for the primitives).
+    pub fn geometry_file(&self) -> Option<GeometryFileSpec<'_>> {
+        match self {
+            ToolShapeSpec::Mesh {
+                file,
+                scale,
+                rotate,
+                translate,
+            }
+            | ToolShapeSpec::Outline {
+                file,
+                scale,
+                rotate,
+                translate,
+            } => Some(GeometryFileSpec {
+                file,
+                scale: *scale,
+                rotate: rotate.as_ref(),
+                translate: translate.as_deref(),
+            }),
+            _ => None,
+        }
+    }
 }
 
 /// A contact between bodies: two names (their contact, on by default between deformable

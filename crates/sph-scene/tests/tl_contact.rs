@@ -153,3 +153,28 @@ fn friction_between_bodies_runs_for_tl_and_ul() {
         assert!(work < 0.0, "{method}: {work}");
     }
 }
+
+/// Bodies may touch but not overlap at t = 0 (issue 43): the right disc moved into the left
+/// one is refused in one line naming both, for every family, before any work; discs whose
+/// surfaces touch (centres 2 R apart) run.
+#[test]
+fn overlapping_bodies_at_the_start_are_refused_touching_ones_run() {
+    for method in ["tl-hf", "ul-enog", "mps"] {
+        let text = scene(method, "")
+            .replace("[numerics]\ndamping = false\n", "")
+            .replace("centre = [0.04375, 0.0]", "centre = [0.02, 0.0]");
+        let e = error(&text);
+        assert!(
+            e.contains("`right` overlaps body `left` at t = 0"),
+            "{method}: {e}"
+        );
+        assert_eq!(e.lines().count(), 1, "{e}");
+    }
+    let touching = scene("tl-hf", "")
+        .replace("centre = [-0.04375, 0.0]", "centre = [-0.04, 0.0]")
+        .replace("centre = [0.04375, 0.0]", "centre = [0.04, 0.0]")
+        .replace("end_time = 6e-3", "end_time = 1e-5");
+    let s = Scene::parse(&touching, "s.toml", Path::new("."), "s").unwrap();
+    let (record, _) = s.run(&RunOptions::default()).unwrap();
+    assert!(record.failure.is_none(), "{:?}", record.failure);
+}

@@ -29,7 +29,7 @@
 //! Detection runs every step on the current positions (a cell list of edge `dp`), only when the
 //! solver has several bodies or a self-contact: a one-body solver pays nothing.
 
-use sph_core::contact::ContactBodies;
+use sph_core::contact::{body_force_series, record_body_forces, ContactBodies};
 use sph_core::contact_friction::ContactFriction;
 use sph_core::parallel::gather;
 use sph_core::scene::Series;
@@ -73,13 +73,7 @@ impl<D: Dim> TlContact<D> {
         rho0: f64,
     ) -> Self {
         let n = bodies.body.len();
-        let axes = ["x", "y", "z"];
-        let series = (0..bodies.bodies())
-            .map(|b| {
-                Series::new(&format!("contact_force_{b}"), &axes[..D::D])
-                    .with_description(sph_core::conventions::CONTACT_SERIES)
-            })
-            .collect();
+        let series = body_force_series(bodies.bodies(), D::D);
         Self {
             bodies,
             list: NeighborList::default(),
@@ -107,10 +101,7 @@ impl<D: Dim> TlContact<D> {
     /// Appends one row, the force of [`TlContact::body_forces`], to every body's series.
     pub fn record(&mut self, time: f64, masses: &[f64]) {
         let forces = self.body_forces(masses);
-        for (s, f) in self.series.iter_mut().zip(forces) {
-            let row: Vec<f64> = (0..D::D).map(|k| D::component(f, k)).collect();
-            s.push(time, &row);
-        }
+        record_body_forces::<D>(&mut self.series, time, &forces);
     }
 
     /// Detects the contact pairs at `positions` and adds the contact accelerations to `out`.

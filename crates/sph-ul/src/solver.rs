@@ -47,6 +47,7 @@ use crate::shear::{Shear, ShearForce};
 use crate::stepping::{acoustic_dt, advection_dt, next_substep, Stepping};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use sph_core::contact::{body_force_series, record_body_forces};
 use sph_core::contact_friction::{ContactFriction, FrictionTable};
 use sph_core::correction::{correction_matrices, DEFAULT_MIN_EIGENVALUE};
 use sph_core::diagnostics;
@@ -285,12 +286,7 @@ impl<D: Dim> UlSolver<D> {
             self.params.contact_scale,
             &materials,
         );
-        self.series = (0..contact.bodies)
-            .map(|b| {
-                Series::new(&format!("contact_force_{b}"), &AXES[..D::D])
-                    .with_description(sph_core::conventions::CONTACT_SERIES)
-            })
-            .collect();
+        self.series = body_force_series(contact.bodies, D::D);
         self.contact = Some(contact);
         self.rebuild()?;
         self.refresh_rates();
@@ -440,10 +436,7 @@ impl<D: Dim> UlSolver<D> {
             p.record(self.time, &self.positions, &self.velocities);
         }
         if let Some(c) = &self.contact {
-            for (s, f) in self.series.iter_mut().zip(c.body_forces(&self.masses)) {
-                let row: Vec<f64> = (0..D::D).map(|k| D::component(f, k)).collect();
-                s.push(self.time, &row);
-            }
+            record_body_forces::<D>(&mut self.series, self.time, &c.body_forces(&self.masses));
         }
         if !self.tools.is_empty() {
             self.tools.record(self.time);

@@ -20,7 +20,7 @@
 use clap::{Parser, Subcommand};
 use sph_validation::{
     contact, extreme, geometry, h5report, hf_laplacian, impacts, mesh_physics, mps, mps_stab, plot,
-    store, tl, tradeoff, ul, workspace_root,
+    store, taylor, tl, tradeoff, ul, workspace_root,
 };
 use std::fmt::Write as _;
 use std::process::ExitCode;
@@ -104,6 +104,13 @@ enum Command {
     /// Contact and friction: the incline block (TL-HF, UL-ENOG, MPS; 2D and 3D), then the
     /// report.
     Contact {
+        /// Re-run stored runs.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Plasticity: the Taylor bar (UL-GNOG, UL-OG at R/dp 4, 6, 8; UL-OAS; TL, TL-GM at 3)
+    /// against the published final length and radius, then the report.
+    Taylor {
         /// Re-run stored runs.
         #[arg(long)]
         force: bool,
@@ -200,6 +207,12 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
     }
+    if let Command::Taylor { force } = cli.command {
+        if let Err(e) = taylor::run_all(taylor::Selection { force }) {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    }
     if let Command::Tradeoff { quick, force, only } = &cli.command {
         let (quick, force, only) = (*quick, *force, only.clone());
         if let Err(e) = tradeoff::run_all(tradeoff::Selection { quick, force, only }) {
@@ -261,6 +274,7 @@ fn report() -> Result<(), String> {
     hf_laplacian::report(&mut md)?;
     impacts::report(&mut md, &figs, "validation")?;
     contact::report(&mut md)?;
+    taylor::report(&mut md, &figs, "validation")?;
     geometry::report(&mut md)?;
     mesh_physics::report(&mut md)?;
     let out = docs.join("validation.md");

@@ -20,10 +20,15 @@
 //! docs/validation.md) builds the spheres from concentric spherical layers
 //! (`hollow_sphere_polar`, poles on z, away from the contact on the x axis), the right sphere the
 //! mirror image of the left; `lattice` cuts them from a cubic lattice whose cell faces pass
-//! through the centres. The wall is a fixed body (every particle `Fixed`), a lattice slab
+//! through the centres; `mesh` fits them to a UV-sphere triangle mesh ([`mesh_sphere`]), the
+//! right sphere again the mirror image. The wall is a fixed body (every particle `Fixed`), a lattice slab
 //! `x ∈ [0, 3 dp]` (thicker than UL's kernel support 2.6 dp, TL's 2.3 dp) of `1.2 radius`
 //! square, meeting the sphere through the same contact as a second sphere would (for TL too: a
 //! fixed TL body, not a rigid tool, so both families meet the wall through their body contact).
+//! `target = tool` is the rigid wall as a half-space tool `x ≥ 0` ([`sph_core::tool`], named
+//! `wall`): its kinematic contact stops a particle's approach at `dp/2` from the plane, with no
+//! contact layer of its own (the contact time and force then come from the tool's recorded
+//! reaction; `contact_stiffness` has nothing to scale and must keep its default).
 //!
 //! Summary: `contact_time` (the first contact's duration, from the recorded contact force:
 //! exactly zero while no pair interacts, sampled every `t_c/400`), `max_force` (largest contact
@@ -36,7 +41,9 @@
 //! `contact_time_theory`, `max_force_theory`, `max_compression_theory`, and `velocity_over_c0`.
 //! The end time (key `end_time`, 0 = automatic) is the flight to contact plus `2 t_c`.
 
-use crate::cases::impact_common::{body_velocities, contact_param, contact_summary, layout_param};
+use crate::cases::impact_common::{
+    body_velocities, contact_param, contact_summary, tool_contact_summary,
+};
 use crate::cases::tl_common::{material, run_tl, tl_params, TL_METHODS};
 use crate::cases::ul_common::{run_ul, ul_params};
 use crate::error::CaseError;
@@ -45,8 +52,11 @@ use crate::runner::{finite_or_null, RunOptions, RunRecord};
 use crate::{Case, CaseInfo};
 use glam::DVec3;
 use serde_json::{json, Map, Value as Json};
+use sph_core::tool::{RigidTool, ToolMotion, ToolShape};
 use sph_core::{Constraint, Constraints, Solver, D3};
+use sph_geometry::fit::{fit, FitOptions};
 use sph_geometry::generate::{hollow_sphere, hollow_sphere_polar, Aabb, Lattice, ParticleSet};
+use sph_geometry::mesh::{MeshSolid, TriMesh};
 use sph_materials::{Material, MaterialKind};
 
 /// The Hertz impact.
@@ -165,6 +175,21 @@ pub fn hertz_force_history(
     out
 }
 
+/// Segments (around and, halved, pole to pole) of the UV-sphere mesh of `layout = mesh`: its
+/// largest distance from the exact sphere, `R (1 − cos(√2 π/n))` (at the triangles'
+/// circumcentres), is 6.0e-4 R: 0.6 % of `dp` at R/dp = 10, 1.2 % at 20.
+pub const MESH_SEGMENTS: usize = 128;
+
+/// The particles of a sphere body-fitted to a UV-sphere triangle mesh ([`TriMesh::uv_sphere`],
+/// [`MESH_SEGMENTS`] segments) at spacing `dp` with the default relaxation
+/// ([`sph_geometry::fit::fit`]): what a user importing the sphere as an STL file gets.
+pub fn mesh_sphere(centre: DVec3, radius: f64, dp: f64) -> Result<ParticleSet<D3>, CaseError> {
+    let mesh = TriMesh::uv_sphere(centre, radius, MESH_SEGMENTS);
+    let solid = MeshSolid::new(mesh, "uv-sphere")?;
+    let (set, _) = fit(&solid, dp, &FitOptions::default())?;
+    Ok(set)
+}
+
 impl Case for HertzImpact3d {
     fn info(&self) -> CaseInfo {
         CaseInfo {
@@ -205,10 +230,20 @@ impl Case for HertzImpact3d {
             Param::choice(
                 "target",
                 "sphere",
-                &["sphere", "wall"],
-                "what the sphere hits: an identical sphere, or a rigid wall (a fixed body)",
+                &["sphere", "wall", "tool"],
+                "what the sphere hits: an identical sphere, a rigid wall of fixed particles \
+                 (`wall`) or a rigid half-space tool (`tool`)",
             ),
-            layout_param("layers"),
+            Param::choice(
+                "layout",
+                "layers",
+                &["layers", "lattice", "mesh"],
+                "particles of the spheres: `layers` = concentric spherical layers on Fibonacci \
+                 lattices (sph_geometry::generate::hollow_sphere_polar, smooth surface), \
+                 `lattice` = cut from a cubic lattice (staircase surface), `mesh` = body-fitted \
+                 to a UV-sphere triangle mesh of 128 segments (sph_geometry::fit, \
+                 default relaxation: the surface layer dp/2 inside the mesh)",
+            ),
             contact_param(),
             Param::float(
                 "end_time",
@@ -241,10 +276,12 @@ impl Case for HertzImpact3d {
             p.f64("density"),
         );
         let dp = radius / p.int("resolution") as f64;
-        let target = if p.text("target") == "wall" {
-            HertzTarget::Wall
-        } else {
+        // The rigid half-space tool: the theory's wall, met through the tools' contact.
+        let tool = p.text("target") == "tool";
+        let target = if p.text("target") == "sphere" {
             HertzTarget::Sphere
+        } else {
+            HertzTarget::Wall
         };
         let mat = material(MaterialKind::LinearElastic, e, nu, rho)?;
         let constants = *Material::<D3>::constants(&mat);
@@ -258,12 +295,14 @@ impl Case for HertzImpact3d {
         let centre = DVec3::new(-(radius + offset), 0.0, 0.0);
         let left = match p.text("layout") {
             "lattice" => hollow_sphere(centre, 0.0, radius, dp)?,
+            "mesh" => mesh_sphere(centre, radius, dp)?,
             _ => hollow_sphere_polar(centre, 0.0, radius, dp)?,
         };
         let nl = left.len();
         let mut set = left.clone();
         let mut constraints = Constraints::new();
         let second = match target {
+            HertzTarget::Wall if tool => ParticleSet::from_parts(Vec::new(), Vec::new())?,
             HertzTarget::Sphere => {
                 let mirrored: Vec<DVec3> = left
                     .positions()
@@ -283,7 +322,7 @@ impl Case for HertzImpact3d {
         };
         set.extend(&second)?;
         let n = set.len();
-        if target == HertzTarget::Wall {
+        if target == HertzTarget::Wall && !tool {
             constraints.push(
                 Constraint::Fixed {
                     particles: (nl as u32..n as u32).collect(),
@@ -334,7 +373,11 @@ impl Case for HertzImpact3d {
             };
         let body_of_summary = body_of.clone();
         let summarise = move |s: &dyn Solver<D3>, record: &RunRecord| {
-            let mut m = contact_summary(s, 0, DVec3::X);
+            let mut m = if tool {
+                tool_contact_summary(s, "wall", DVec3::X)
+            } else {
+                contact_summary(s, 0, DVec3::X)
+            };
             let duration = m.get("contact_duration").and_then(Json::as_f64);
             m.insert(
                 "contact_time".into(),
@@ -378,6 +421,22 @@ impl Case for HertzImpact3d {
             m
         };
         let kappa = p.f64("contact_stiffness");
+        // The tool: the half-space x ≥ 0 whose surface faces the sphere (−x).
+        let wall = if tool {
+            if kappa != self.params_for(method).f64("contact_stiffness") {
+                return Err(CaseError::InvalidValue {
+                    key: "contact_stiffness".into(),
+                    value: kappa.to_string(),
+                    allowed: "its default with target = \"tool\" (the tool's contact is \
+                              kinematic: no contact pressure to scale)"
+                        .into(),
+                });
+            }
+            let shape = ToolShape::half_space(DVec3::ZERO, -DVec3::X)?;
+            vec![RigidTool::new("wall", shape, ToolMotion::fixed())]
+        } else {
+            Vec::new()
+        };
         if TL_METHODS.contains(&method) {
             return run_tl(
                 "hertz-impact-3d",
@@ -386,10 +445,13 @@ impl Case for HertzImpact3d {
                 body,
                 mat,
                 |s| {
-                    let s = s
-                        .with_bodies(body_of)?
-                        .with_contact_scale(kappa)?
-                        .with_constraints(constraints);
+                    let s = if tool {
+                        s.with_tools(wall)?.with_constraints(constraints)
+                    } else {
+                        s.with_bodies(body_of)?
+                            .with_contact_scale(kappa)?
+                            .with_constraints(constraints)
+                    };
                     Ok(s.with_probes(Vec::new(), interval)?)
                 },
                 end,
@@ -404,7 +466,11 @@ impl Case for HertzImpact3d {
             body,
             constants,
             |s| {
-                let s = s.with_constraints(constraints).with_contact(body_of)?;
+                let s = if tool {
+                    s.with_constraints(constraints).with_tools(wall)?
+                } else {
+                    s.with_constraints(constraints).with_contact(body_of)?
+                };
                 Ok(s.with_probes(Vec::new(), interval)?)
             },
             end,

@@ -12,7 +12,7 @@ use crate::params::{Param, Params, Range};
 use crate::runner::finite_or_null;
 use serde_json::{json, Map, Value as Json};
 use sph_core::error::Num;
-use sph_core::{Dim, Field, Solver};
+use sph_core::{Dim, Field, Series, Solver};
 
 /// The contact key of the impact cases: the scale `κ` of the contact pressure.
 pub fn contact_param() -> Param {
@@ -113,22 +113,52 @@ pub fn body_velocities<D: Dim>(
 /// Figures of the contact force on body `body` (the series `contact_force_<body>`, columns
 /// `x`, `y` (, `z`)) along the unit `axis` (the impact direction; the force on the body is
 /// against it): the largest magnitude `contact_force_max`, its time, and the first contact's
-/// start, end and duration.
+/// start, end and duration ([`force_figures`]).
 pub fn contact_summary<D: Dim>(
     s: &dyn Solver<D>,
     body: usize,
     axis: D::Vector,
 ) -> Map<String, Json> {
-    let mut m = Map::new();
     let name = format!("contact_force_{body}");
     let all = s.series();
     let Some(series) = all.iter().find(|x| x.name == name) else {
-        return m;
+        return Map::new();
     };
+    force_figures::<D>(series, 0, false, axis)
+}
+
+/// The figures of [`contact_summary`] from a rigid tool's series (`tool`, columns `force_x`,
+/// `force_y` (, `force_z`) after `displacement`: the force the body exerts on the tool, so the
+/// force on the body is its opposite).
+pub fn tool_contact_summary<D: Dim>(
+    s: &dyn Solver<D>,
+    tool: &str,
+    axis: D::Vector,
+) -> Map<String, Json> {
+    let all = s.series();
+    let Some(series) = all.iter().find(|x| x.name == tool) else {
+        return Map::new();
+    };
+    force_figures::<D>(series, 1, true, axis)
+}
+
+/// The force on a body from the `D` columns of `series` starting at `first` (their opposite
+/// with `reaction`), along the unit `axis` it moves (the force on it is against it):
+/// `contact_force_max` (the largest `−F·axis`), its time `contact_force_max_time`, and the
+/// first contact's `contact_start`, `contact_end`, `contact_duration` (the force's magnitude
+/// exactly zero while nothing touches).
+fn force_figures<D: Dim>(
+    series: &Series,
+    first: usize,
+    reaction: bool,
+    axis: D::Vector,
+) -> Map<String, Json> {
+    let mut m = Map::new();
+    let sign = if reaction { -1.0 } else { 1.0 };
     let force = |k: usize| {
         let mut v = D::zero();
-        for (c, col) in series.values.iter().enumerate().take(D::D) {
-            D::set_component(&mut v, c, col[k]);
+        for (c, col) in series.values[first..].iter().enumerate().take(D::D) {
+            D::set_component(&mut v, c, sign * col[k]);
         }
         v
     };

@@ -196,6 +196,117 @@ impl Case for InclineBlock {
     }
 }
 
+/// What both floors share: the block, its material, the turned gravity and the rigid answer.
+struct BlockSetup<D: Dim> {
+    /// The block's particle spacing (m).
+    dp: f64,
+    /// The block's side (m).
+    size: f64,
+    end_time: f64,
+    /// The gravity ramp's duration (s).
+    ramp: f64,
+    /// The probes' sampling interval (s).
+    interval: f64,
+    mat: MaterialModel,
+    /// The block `[−size/2, size/2] × [0, size] (× [−size/2, size/2])` above the floor y = 0.
+    block: ParticleSet<D>,
+    /// The block's reference positions.
+    reference: Vec<D::Vector>,
+    /// The block's bottom row (indices into `reference`).
+    bottom: Vec<usize>,
+    /// `g (sin θ, −cos θ)`: the incline made by turning gravity.
+    gravity: D::Vector,
+    /// [`sliding_acceleration`] for the case's angle and coefficients.
+    theory: f64,
+    slope: Slope,
+}
+
+impl<D: Dim> BlockSetup<D>
+where
+    MaterialModel: Material<D>,
+{
+    /// Reads the case's keys (bad values are errors before any particle is made) and fills the
+    /// block.
+    fn new(p: &Params, friction: Friction) -> Result<Self, CaseError> {
+        let (size, resolution) = (p.f64("size"), p.int("resolution"));
+        let dp = size / resolution as f64;
+        let (e, nu, rho) = (p.f64("youngs_modulus"), p.f64("nu"), p.f64("density"));
+        let (g, angle) = (p.f64("gravity"), p.f64("angle"));
+        let (end_time, ramp) = (p.f64("end_time"), p.f64("ramp_time"));
+        if ramp >= end_time {
+            return Err(CaseError::InvalidValue {
+                key: "ramp_time".into(),
+                value: ramp.to_string(),
+                allowed: format!("0 <= ramp_time < end_time = {end_time}"),
+            });
+        }
+        let mat = material(MaterialKind::LinearElastic, e, nu, rho)?;
+        let block = lattice(
+            dp,
+            [-0.5 * size, 0.0, -0.5 * size],
+            [0.5 * size, size, 0.5 * size],
+        )?;
+        let reference = block.positions().to_vec();
+        let bottom = (0..reference.len())
+            .filter(|&i| D::component(reference[i], 1) < dp)
+            .collect();
+        let theta = angle.to_radians();
+        let slope = Slope {
+            gravity: g * theta.sin(),
+            mass: rho * block.volumes().iter().sum::<f64>(),
+            ramp,
+        };
+        Ok(Self {
+            dp,
+            size,
+            end_time,
+            ramp,
+            interval: p.f64("probe_interval"),
+            mat,
+            block,
+            reference,
+            bottom,
+            gravity: D::vector([g * theta.sin(), -g * theta.cos(), 0.0]),
+            theory: sliding_acceleration(
+                g,
+                angle,
+                friction.static_coefficient,
+                friction.kinetic_coefficient,
+            ),
+            slope,
+        })
+    }
+
+    /// Gravity on `particles` (every particle with `None`), rising smoothly over the ramp.
+    fn gravity_loads(&self, particles: Option<Vec<u32>>) -> Result<Loads<D>, CaseError> {
+        let mut loads = Loads::<D>::new();
+        loads.add_body_acceleration(
+            particles,
+            if self.ramp > 0.0 {
+                TimeFunction::scaled(self.gravity, Amplitude::smooth_step(0.0, self.ramp)?)
+            } else {
+                TimeFunction::constant(self.gravity)
+            },
+        );
+        Ok(loads)
+    }
+}
+
+/// The particles of a cell-centred lattice of `spacing` in the box `lo`–`hi` (its third
+/// components ignored in 2D).
+fn lattice<D: Dim>(spacing: f64, lo: [f64; 3], hi: [f64; 3]) -> Result<ParticleSet<D>, CaseError> {
+    let (mut lo, mut hi) = (lo, hi);
+    if D::D == 2 {
+        (lo[2], hi[2]) = (0.0, 0.0);
+    }
+    let (lo, hi) = (D::vector(lo), D::vector(hi));
+    Ok(ParticleSet::fill(
+        &Lattice::<D>::new(spacing, lo)?,
+        &Aabb::<D>::new(lo, hi)?,
+    )?)
+}
+
+/// The block on the rigid floor tool.
 fn run_block<D: Dim>(
     method: &str,
     p: &Params,
@@ -205,67 +316,31 @@ fn run_block<D: Dim>(
 where
     MaterialModel: Material<D>,
 {
-    let (size, resolution) = (p.f64("size"), p.int("resolution"));
-    let dp = size / resolution as f64;
-    let (e, nu, rho) = (p.f64("youngs_modulus"), p.f64("nu"), p.f64("density"));
-    let (g, angle) = (p.f64("gravity"), p.f64("angle"));
-    let end_time = p.f64("end_time");
-    let mat = material(MaterialKind::LinearElastic, e, nu, rho)?;
-    // The block [−size/2, size/2] × [0, size] (× [−size/2, size/2]) on the floor y = 0.
-    let mut lo = [-0.5 * size, 0.0, -0.5 * size];
-    let mut hi = [0.5 * size, size, 0.5 * size];
-    if D::D == 2 {
-        (lo[2], hi[2]) = (0.0, 0.0);
-    }
-    let (lo, hi) = (D::vector(lo), D::vector(hi));
-    let set = ParticleSet::fill(&Lattice::<D>::new(dp, lo)?, &Aabb::<D>::new(lo, hi)?)?;
-    let reference = set.positions().to_vec();
+    let setup = BlockSetup::<D>::new(p, friction)?;
+    let loads = setup.gravity_loads(None)?;
+    let BlockSetup {
+        dp,
+        end_time,
+        interval,
+        mat,
+        block,
+        reference,
+        bottom,
+        theory,
+        slope,
+        ..
+    } = setup;
     let body = Body::<D> {
         positions: reference.clone(),
-        volumes: set.volumes().to_vec(),
+        volumes: block.volumes().to_vec(),
         dp,
-        velocities: vec![D::zero(); set.len()],
+        velocities: vec![D::zero(); block.len()],
         densities: Vec::new(),
-    };
-    let theta = angle.to_radians();
-    let gravity = D::vector([g * theta.sin(), -g * theta.cos(), 0.0]);
-    let ramp = p.f64("ramp_time");
-    if ramp >= end_time {
-        return Err(CaseError::InvalidValue {
-            key: "ramp_time".into(),
-            value: ramp.to_string(),
-            allowed: format!("0 <= ramp_time < end_time = {end_time}"),
-        });
-    }
-    let mut loads = Loads::<D>::new();
-    loads.add_body_acceleration(
-        None,
-        if ramp > 0.0 {
-            TimeFunction::scaled(gravity, Amplitude::smooth_step(0.0, ramp)?)
-        } else {
-            TimeFunction::constant(gravity)
-        },
-    );
-    let mass = rho * set.volumes().iter().sum::<f64>();
-    let slope = Slope {
-        gravity: g * theta.sin(),
-        mass,
-        ramp,
     };
     let floor = ToolShape::half_space(D::zero(), D::vector([0.0, 1.0, 0.0]))?;
     let tool = RigidTool::new("incline", floor, ToolMotion::fixed()).with_friction(friction);
-    let interval = p.f64("probe_interval");
-    let theory = sliding_acceleration(
-        g,
-        angle,
-        friction.static_coefficient,
-        friction.kinetic_coefficient,
-    );
-    let bottom: Vec<usize> = (0..reference.len())
-        .filter(|&i| D::component(reference[i], 1) < dp)
-        .collect();
     let summarise = move |s: &dyn Solver<D>, _: &RunRecord| {
-        block_summary(s, &reference, &bottom, dp, theory, slope, end_time)
+        block_summary(s, &reference, &bottom, dp, theory, slope)
     };
     if UL_METHODS.contains(&method) {
         let constants = *Material::<D>::constants(&mat);
@@ -322,14 +397,14 @@ where
 /// `[−size/2 − 4dp, size/2 + L + 4dp]` long (× the block's depth plus `4dp` each side in 3D),
 /// `4dp` thick with its top row one `dp` below the block's bottom row, `L = ½ g sin θ
 /// end_time²` the frictionless travel, of the block's material and a lattice of spacing
-/// `dp / floor_refinement`, every particle `Fixed`; block and slab meet through the method's body-body contact with
-/// the Coulomb friction of [`sph_core::contact_friction`] between them. The acceleration is
-/// the least-squares slope of the block's mean velocity along the slope (a probe with equal
-/// weights on every block particle) over the samples after the ramp ([`probe_acceleration`]).
-/// `gravity_impulse` is `|g| m (end_time − ramp_time/2)`, the impulse gravity gave the block:
-/// with UL, the solver's `momentum_balance` (`|Σ m v − (Σ m v)₀ + J_c|`, `J_c` the impulse the
-/// fixed slab's constraint took, the friction reaction included) must equal it:
-/// `gravity_impulse_error` is `momentum_balance / gravity_impulse − 1`.
+/// `dp / floor_refinement`, every particle `Fixed`; block and slab meet through the method's
+/// body-body contact with the Coulomb friction of [`sph_core::contact_friction`] between them.
+/// The acceleration is the least-squares slope of the block's mean velocity along the slope (a
+/// probe with equal weights on every block particle) over the samples after the ramp
+/// ([`probe_acceleration`]). `gravity_impulse` is `|g| m (end_time − ramp_time/2)`, the impulse
+/// gravity gave the block: with UL, the solver's `momentum_balance` (`|Σ m v − (Σ m v)₀ + J_c|`,
+/// `J_c` the impulse the fixed slab's constraint took, the friction reaction included) must
+/// equal it: `gravity_impulse_error` is `momentum_balance / gravity_impulse − 1`.
 fn run_on_body<D: Dim>(
     method: &str,
     p: &Params,
@@ -339,38 +414,25 @@ fn run_on_body<D: Dim>(
 where
     MaterialModel: Material<D>,
 {
-    let (size, resolution) = (p.f64("size"), p.int("resolution"));
-    let dp = size / resolution as f64;
-    let (e, nu, rho) = (p.f64("youngs_modulus"), p.f64("nu"), p.f64("density"));
-    let (g, angle) = (p.f64("gravity"), p.f64("angle"));
-    let end_time = p.f64("end_time");
-    let ramp = p.f64("ramp_time");
-    if ramp >= end_time {
-        return Err(CaseError::InvalidValue {
-            key: "ramp_time".into(),
-            value: ramp.to_string(),
-            allowed: format!("0 <= ramp_time < end_time = {end_time}"),
-        });
-    }
-    let mat = material(MaterialKind::LinearElastic, e, nu, rho)?;
-    let theta = angle.to_radians();
-    let lattice = |spacing: f64, lo: [f64; 3], hi: [f64; 3]| -> Result<ParticleSet<D>, CaseError> {
-        let (mut lo, mut hi) = (lo, hi);
-        if D::D == 2 {
-            (lo[2], hi[2]) = (0.0, 0.0);
-        }
-        let (lo, hi) = (D::vector(lo), D::vector(hi));
-        Ok(ParticleSet::fill(
-            &Lattice::<D>::new(spacing, lo)?,
-            &Aabb::<D>::new(lo, hi)?,
-        )?)
-    };
-    let block = lattice(
+    let setup = BlockSetup::<D>::new(p, friction)?;
+    let nb = setup.block.len();
+    let block_ids: Vec<u32> = (0..nb as u32).collect();
+    let loads = setup.gravity_loads(Some(block_ids.clone()))?;
+    let BlockSetup {
         dp,
-        [-0.5 * size, 0.0, -0.5 * size],
-        [0.5 * size, size, 0.5 * size],
-    )?;
-    let travel = 0.5 * g * theta.sin() * end_time * end_time;
+        size,
+        end_time,
+        ramp,
+        interval,
+        mat,
+        block,
+        reference,
+        bottom,
+        gravity,
+        theory,
+        slope,
+    } = setup;
+    let travel = 0.5 * p.f64("gravity") * p.f64("angle").to_radians().sin() * end_time * end_time;
     let margin = 4.0 * dp;
     // The slab's top row at y = −dp/2, one dp below the block's bottom row (touching).
     let fine = dp / p.int("floor_refinement") as f64;
@@ -380,9 +442,7 @@ where
         [-0.5 * size - margin, top - margin, -0.5 * size - margin],
         [0.5 * size + travel + margin, top, 0.5 * size + margin],
     )?;
-    let nb = block.len();
-    let reference = block.positions().to_vec();
-    let mut set = block.clone();
+    let mut set = block;
     set.extend(&slab)?;
     let n = set.len();
     let body_of: Vec<u32> = (0..n).map(|i| u32::from(i >= nb)).collect();
@@ -400,17 +460,6 @@ where
         velocities: vec![D::zero(); n],
         densities: Vec::new(),
     };
-    let gravity = D::vector([g * theta.sin(), -g * theta.cos(), 0.0]);
-    let mut loads = Loads::<D>::new();
-    let block_ids: Vec<u32> = (0..nb as u32).collect();
-    loads.add_body_acceleration(
-        Some(block_ids.clone()),
-        if ramp > 0.0 {
-            TimeFunction::scaled(gravity, Amplitude::smooth_step(0.0, ramp)?)
-        } else {
-            TimeFunction::constant(gravity)
-        },
-    );
     let mut table = FrictionTable::new(2);
     table.set(0, 1, friction)?;
     // The block's mean velocity (equal masses: its centre of mass's).
@@ -429,27 +478,11 @@ where
         positions: Vec::new(),
         velocities: Vec::new(),
     };
-    let interval = p.f64("probe_interval");
-    let theory = sliding_acceleration(
-        g,
-        angle,
-        friction.static_coefficient,
-        friction.kinetic_coefficient,
-    );
-    let bottom: Vec<usize> = (0..nb)
-        .filter(|&i| D::component(reference[i], 1) < dp)
-        .collect();
-    let mass = rho * block.volumes().iter().sum::<f64>();
     // The gravity impulse on the block along the slope and into it: ∫ g(t) dt · m with the
     // smooth ramp's integral T/2.
-    let impulse = D::norm(gravity) * mass * (end_time - 0.5 * ramp);
+    let impulse = D::norm(gravity) * slope.mass * (end_time - 0.5 * ramp);
     let summarise = move |s: &dyn Solver<D>, _: &RunRecord| {
-        let slope = Slope {
-            gravity: g * theta.sin(),
-            mass,
-            ramp,
-        };
-        let mut m = block_summary(s, &reference, &bottom, dp, theory, slope, end_time);
+        let mut m = block_summary(s, &reference, &bottom, dp, theory, slope);
         let a = probe_acceleration(s, ramp).unwrap_or(f64::NAN);
         m.insert("acceleration".into(), finite_or_null(a));
         let slid = m.get("slid") == Some(&Json::Bool(true));
@@ -609,7 +642,6 @@ fn block_summary<D: Dim>(
     dp: f64,
     theory: f64,
     slope: Slope,
-    end_time: f64,
 ) -> Map<String, Json> {
     let ids = s.particle_ids();
     let (x, v) = (s.positions(), s.velocities());
@@ -642,7 +674,6 @@ fn block_summary<D: Dim>(
     m.insert("slid".into(), json!(slid));
     m.insert("velocity_final".into(), finite_or_null(vx));
     m.insert("slide_distance".into(), finite_or_null(slide));
-    let _ = end_time;
     for (name, value) in s.figures() {
         if matches!(
             name,

@@ -10,8 +10,9 @@
 //! 0.3 % of KE0. `wall = tool` is a rigid frictionless half-space tool instead
 //! ([`sph_core::tool`], named `wall`, the UL tools' contact offset `dp/2`): its kinematic
 //! contact lets the bar lift off (about 47 µs for OG with the limiter, R/dp 4; the reference's
-//! face cannot) and leaves a budget residual of +6 to +10 % of KE0 for OG (the velocity
-//! projection's work is not the energy the bar loses there; measured, not yet explained). The
+//! face cannot); its budget closes (OG, R/dp 3: −0.05 % of KE0; the residuals of +6 to +10 %
+//! of the `wall = tool` rows below were measured before UL's budget booked the forces' work
+//! on the velocities the tool leaves the particles, and only that column has changed). The
 //! body is built from concentric rings stacked in slices ([`tube_polar`]) with `dp = R/resolution`
 //! (`resolution` counts particles across the **radius**); the methods are those that carry a
 //! plastic law: UL's `ul-gnog` (default), `ul-og`, `ul-oas` (hypoelastic radial return;

@@ -220,11 +220,12 @@ where
             "guarded_particles".into(),
             json!(solver.local().guarded_particles()),
         );
+        let fields = crate::runner::case_fields(TL_FIELDS, &solver.field_names());
         return Ok(drive::<D>(
             &mut solver,
             meta,
             schedule,
-            TL_FIELDS,
+            &fields,
             options,
             summarise,
         )?);
@@ -236,11 +237,12 @@ where
         "guarded_particles".into(),
         json!(solver.guarded_particles()),
     );
+    let fields = crate::runner::case_fields(TL_FIELDS, &solver.field_names());
     Ok(drive::<D>(
         &mut solver,
         meta,
         schedule,
-        TL_FIELDS,
+        &fields,
         options,
         summarise,
     )?)

@@ -224,11 +224,12 @@ pub fn run_ul<D: Dim>(
         ul_figures(s, r, p_scale, &mut summary);
         summary
     };
+    let fields = crate::runner::case_fields(UL_FIELDS, &solver.field_names());
     let (record, summary) = drive::<D>(
         &mut solver,
         meta,
         schedule(p, end_time),
-        UL_FIELDS,
+        &fields,
         options,
         summarise,
     )?;

@@ -4,7 +4,8 @@
 //!
 //! # The contact law
 //!
-//! A tool is an exact rigid shape ([`ToolShape`]: box, ball, half-space) with a signed distance
+//! A tool is a rigid shape ([`ToolShape`]: box, ball, half-space, or a triangle mesh or 2D
+//! outline through [`SignedDistance`]) with a signed distance
 //! `d(x)` (negative inside) and outward unit normal `n(x)`. Particle `i` stands for the material
 //! of its cell, half a spacing around it, so the body's surface touches the tool when the
 //! particle's centre is at the distance `r_c` (the *contact offset*) from the tool's surface
@@ -57,7 +58,7 @@ mod shape;
 
 pub use motion::{rotation_matrix, Pose, ToolMotion, ToolRotation};
 pub use set::{ReactionMeter, ToolSet, ToolWork};
-pub use shape::ToolShape;
+pub use shape::{SignedDistance, ToolShape};
 
 /// A rigid tool: a shape with a prescribed motion and a name (for its reaction series).
 #[derive(Clone, Debug, PartialEq)]

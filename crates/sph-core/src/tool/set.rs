@@ -155,6 +155,19 @@ impl<D: Dim> ToolSet<D> {
         self.work
     }
 
+    /// The impulse the tools gave the body in the last step (every tool, friction included):
+    /// a solver's momentum balance counts it with its supports' reactions.
+    pub fn step_impulse(&self) -> D::Vector {
+        self.impulses.iter().fold(D::zero(), |s, &j| s + j)
+    }
+
+    /// Adds `work` to the normal contact work. A solver whose kick booked its forces' work on
+    /// velocities the tools then changed corrects the tools' booking by it, so that the forces
+    /// are booked on the velocities the particles keep (`sph_ul`'s energy budget).
+    pub fn add_contact_work(&mut self, work: f64) {
+        self.work.contact += work;
+    }
+
     /// The energy-budget terms of the tools (see [`crate::EnergyBudget`]: minus the work done
     /// on the body): `tool_contact` and `friction`; empty without tools.
     pub fn budget_terms(&self) -> Vec<(&'static str, f64)> {

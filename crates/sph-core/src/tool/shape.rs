@@ -1,10 +1,36 @@
-//! The exact shapes of rigid tools and their signed distances.
+//! The shapes of rigid tools and their signed distances: exact primitives, and any surface
+//! that knows its signed distance ([`SignedDistance`]: a triangle mesh or a 2D outline read by
+//! `sph-geometry`).
 
 use crate::dim::Dim;
 use crate::error::{check_positive, Error};
+use std::fmt::Debug;
+use std::sync::Arc;
+
+/// A closed surface known by its signed distance: what a rigid tool's contact asks of its shape
+/// ([`ToolShape::Surface`]). `sph-geometry` implements it on triangle meshes (3D: the closest
+/// point by a bounding-volume hierarchy, the side by the generalized winding number) and on 2D
+/// outlines; sph-core depends on neither.
+///
+/// The contact ([`super::RigidTool::enforce_contact`]) needs, for a point `x` in the tool's
+/// initial position, the signed distance `d(x)` (negative inside) and the outward unit normal
+/// `n(x)`, the gradient of `d` (`(x − p)/|x − p|` from the closest surface point `p`, turned
+/// inward inside), and a box that holds the surface (a cheap rejection, and a rotating tool's
+/// reach in [`super::RigidTool::max_speed`]).
+pub trait SignedDistance<D: Dim>: Send + Sync + Debug {
+    /// The signed distance from `x` to the surface (negative inside) and the outward unit
+    /// normal of the surface at the closest point.
+    fn signed_distance(&self, x: D::Vector) -> (f64, D::Vector);
+
+    /// An axis-aligned box `(lower, upper)` containing the surface.
+    fn bounds(&self) -> (D::Vector, D::Vector);
+}
 
 /// The geometry of a rigid tool in its initial position.
-#[derive(Clone, Copy, Debug, PartialEq)]
+///
+/// The primitives are exact; [`ToolShape::Surface`] holds any [`SignedDistance`] (a mesh or
+/// outline), shared (`Arc`) so that cloning a tool does not copy its surface.
+#[derive(Clone, Debug)]
 pub enum ToolShape<D: Dim> {
     /// An axis-aligned box (rectangle in 2D), `min ≤ x ≤ max`.
     Box {
@@ -38,6 +64,53 @@ pub enum ToolShape<D: Dim> {
         /// Outward unit normal.
         normal: D::Vector,
     },
+    /// A closed surface given by its signed distance: a triangle mesh (3D) or an outline (2D),
+    /// e.g. `sph_geometry::FileSolid` read from an STL, OBJ or outline file.
+    Surface(Arc<dyn SignedDistance<D>>),
+}
+
+/// Primitives compare by value, surfaces by identity (the same shared surface).
+impl<D: Dim> PartialEq for ToolShape<D> {
+    fn eq(&self, other: &Self) -> bool {
+        use ToolShape::*;
+        match (self, other) {
+            (Box { min: a, max: b }, Box { min: c, max: d }) => a == c && b == d,
+            (
+                RoundedBox {
+                    min: a,
+                    max: b,
+                    radius: r,
+                },
+                RoundedBox {
+                    min: c,
+                    max: d,
+                    radius: s,
+                },
+            ) => a == c && b == d && r == s,
+            (
+                Ball {
+                    centre: a,
+                    radius: r,
+                },
+                Ball {
+                    centre: c,
+                    radius: s,
+                },
+            ) => a == c && r == s,
+            (
+                HalfSpace {
+                    point: a,
+                    normal: b,
+                },
+                HalfSpace {
+                    point: c,
+                    normal: d,
+                },
+            ) => a == c && b == d,
+            (Surface(a), Surface(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
 }
 
 impl<D: Dim> ToolShape<D> {
@@ -125,11 +198,31 @@ impl<D: Dim> ToolShape<D> {
         })
     }
 
+    /// A tool whose shape is the closed surface `surface` (a mesh or outline).
+    ///
+    /// # Errors
+    /// A surface whose bounds are not finite with `lower ≤ upper` (an empty or broken surface).
+    pub fn surface(surface: Arc<dyn SignedDistance<D>>) -> Result<Self, Error> {
+        let (lo, hi) = surface.bounds();
+        let ok = D::is_finite(lo)
+            && D::is_finite(hi)
+            && (0..D::D).all(|k| D::component(lo, k) <= D::component(hi, k));
+        if !ok {
+            return Err(Error::invalid(
+                "tool surface bounds",
+                format!("{lo:?} .. {hi:?}"),
+                "finite, with lower <= upper in every direction",
+            ));
+        }
+        Ok(ToolShape::Surface(surface))
+    }
+
     /// Signed distance from `x` to the surface (negative inside) and the outward unit normal
     /// of the surface at the closest point (the gradient of the distance; on a box's edges and
     /// corners the direction from the corner, which rounds them).
     pub fn distance(&self, x: D::Vector) -> (f64, D::Vector) {
         match *self {
+            ToolShape::Surface(ref s) => s.signed_distance(x),
             ToolShape::Box { min, max } => {
                 let mut outside = D::zero();
                 let (mut best, mut best_k, mut best_sign) = (f64::NEG_INFINITY, 0, 1.0);
@@ -187,6 +280,7 @@ impl<D: Dim> ToolShape<D> {
     /// An axis-aligned box containing the shape (infinite extent for a half-space).
     pub fn bounds(&self) -> (D::Vector, D::Vector) {
         match *self {
+            ToolShape::Surface(ref s) => s.bounds(),
             ToolShape::Box { min, max } | ToolShape::RoundedBox { min, max, .. } => (min, max),
             ToolShape::Ball { centre, radius } => {
                 let mut r = D::zero();

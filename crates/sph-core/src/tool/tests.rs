@@ -283,8 +283,8 @@ fn a_moving_tool_drags_what_sticks_to_it_and_does_work_through_friction() {
 #[test]
 fn a_tool_set_meters_the_friction_and_keeps_series_columns_of_frictionless_tools() {
     let floor = ToolShape::<D2>::half_space(DVec2::ZERO, DVec2::Y).unwrap();
-    let plain = RigidTool::new("plain", floor, ToolMotion::fixed());
-    let rough = RigidTool::new("rough", floor, ToolMotion::fixed())
+    let plain = RigidTool::new("plain", floor.clone(), ToolMotion::fixed());
+    let rough = RigidTool::new("rough", floor.clone(), ToolMotion::fixed())
         .with_friction(Friction::new(0.3, 0.3).unwrap());
     let mut set = ToolSet::new(vec![plain.clone(), rough], &[], 10.0).unwrap();
     assert!(set.has_friction());
@@ -352,4 +352,77 @@ fn reaction_meter_averages_over_the_interval() {
     r.add(DVec2::new(4.0, 2.0), 3.0);
     assert_eq!(r.take_mean(), DVec2::new(3.25, 1.5));
     assert_eq!(r.take_mean(), DVec2::new(4.0, 2.0));
+}
+
+/// A surface given through [`SignedDistance`]: here the exact ball, so that the `Surface`
+/// variant's plumbing (motion, bounds, contact, friction) can be compared bit for bit with the
+/// `Ball` variant's.
+#[derive(Debug)]
+struct BallSurface(ToolShape<D3>);
+
+impl SignedDistance<D3> for BallSurface {
+    fn signed_distance(&self, x: DVec3) -> (f64, DVec3) {
+        self.0.distance(x)
+    }
+    fn bounds(&self) -> (DVec3, DVec3) {
+        self.0.bounds()
+    }
+}
+
+#[test]
+fn a_surface_tool_moves_and_touches_exactly_as_the_primitive_it_describes() {
+    let ball = ToolShape::<D3>::ball(DVec3::new(0.1, 0.0, 0.3), 0.2).unwrap();
+    let surface = ToolShape::<D3>::surface(std::sync::Arc::new(BallSurface(ball.clone()))).unwrap();
+    assert_eq!(surface.bounds(), ball.bounds());
+    assert_eq!(surface, surface.clone(), "a clone shares the surface");
+    assert_ne!(surface, ball);
+    // Translating down and turning about an off-centre axis, with friction.
+    let motion = ToolMotion::<D3>::new(DVec3::new(0.0, 0.0, -1.0), 0.5, 0.0, f64::INFINITY)
+        .unwrap()
+        .rotating(
+            DVec3::new(0.0, 0.1, 0.3),
+            DVec3::new(1.0, 1.0, 0.0).normalize(),
+            2.0,
+            None,
+        )
+        .unwrap();
+    let friction = Friction::new(0.4, 0.3).unwrap();
+    let tools: Vec<RigidTool<D3>> = [ball, surface]
+        .into_iter()
+        .map(|s| RigidTool::new("t", s, motion.clone()).with_friction(friction))
+        .collect();
+    assert_eq!(tools[0].max_speed(), tools[1].max_speed());
+    // A cloud of particles about the ball's path, some of them inside at t = 0.1.
+    let x: Vec<DVec3> = (0..400)
+        .map(|i| {
+            let f = i as f64;
+            DVec3::new(
+                0.1 + 0.25 * (0.37 * f).sin(),
+                0.25 * (0.91 * f).cos(),
+                0.25 + 0.25 * (0.53 * f).sin(),
+            )
+        })
+        .collect();
+    let v0: Vec<DVec3> = (0..400)
+        .map(|i| DVec3::new(0.0, 0.1 * (i as f64).sin(), 0.2))
+        .collect();
+    let (m, movable) = (vec![1e-3; 400], vec![true; 400]);
+    let mut outcomes = Vec::new();
+    let mut velocities = Vec::new();
+    for tool in &tools {
+        let mut v = v0.clone();
+        let out = tool.enforce_contact(0.1, 0.01, |_, _| 0.01, 0.01, &x, &mut v, &m, &movable);
+        for p in &x {
+            assert_eq!(tools[0].distance_at(*p, 0.1), tool.distance_at(*p, 0.1));
+        }
+        outcomes.push(out);
+        velocities.push(v);
+    }
+    assert!(
+        outcomes[0].active > 10 && outcomes[0].sticking > 0,
+        "{:?}",
+        outcomes[0]
+    );
+    assert_eq!(outcomes[0], outcomes[1]);
+    assert_eq!(velocities[0], velocities[1]);
 }

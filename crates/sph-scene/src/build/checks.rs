@@ -2,6 +2,7 @@
 //! that are names (never paths), keys of the scene's method only, bodies that are more than a
 //! handful of particles, and a solver's error sent back to the table that caused it.
 
+use super::parts::BodySolid;
 use super::*;
 use sph_core::error::check_name;
 use sph_core::scene::MAX_PROBES;
@@ -158,6 +159,62 @@ impl Scene {
                     if x.is_empty() { 0.0 } else { across }
                 ),
             ));
+        }
+        Ok(())
+    }
+
+    /// Bodies may touch but not overlap at `t = 0`: a particle of one body inside the solid
+    /// another body's particles fill (its shape, mesh or outline; bodies read from particle
+    /// files have none and are not checked against) is refused, naming both bodies and the
+    /// particle. Touching bodies pass: each body's particles lie inside its own solid, so none
+    /// lies inside a neighbour that only shares a surface with it.
+    pub(super) fn check_overlaps<D: Dim>(
+        &self,
+        set: &ParticleSet<D>,
+        ranges: &[(String, Range<usize>)],
+        solids: &[BodySolid<D>],
+    ) -> Result<(), SceneError> {
+        if ranges.len() < 2 {
+            return Ok(());
+        }
+        let x = set.positions();
+        for (k, solid) in solids.iter().enumerate() {
+            let Some(solid) = solid else {
+                continue;
+            };
+            let (lo, hi) = solid.bounds();
+            let within = |p: D::Vector| {
+                (0..D::D).all(|a| {
+                    let c = D::component(p, a);
+                    c >= D::component(lo, a) && c <= D::component(hi, a)
+                })
+            };
+            for (j, (name, r)) in ranges.iter().enumerate() {
+                if j == k {
+                    continue;
+                }
+                if let Some(i) = r.clone().find(|&i| within(x[i]) && solid.contains(x[i])) {
+                    let spec = &self.spec().bodies[j];
+                    let at = At {
+                        span: spec.span(),
+                        key: "shape",
+                    };
+                    let coords: Vec<String> = (0..D::D)
+                        .map(|a| Num(D::component(x[i], a)).to_string())
+                        .collect();
+                    return Err(self.error_in(
+                        &at,
+                        &format!("body[{j}]"),
+                        format!(
+                            "`{name}` overlaps body `{}` at t = 0 (its particle at [{}] lies \
+                             inside `{}`): bodies may touch, not overlap; move them apart",
+                            ranges[k].0,
+                            coords.join(", "),
+                            ranges[k].0
+                        ),
+                    ));
+                }
+            }
         }
         Ok(())
     }

@@ -16,6 +16,10 @@ pub(super) struct Materials {
 /// One body's particles, uniform initial velocity and, for the fitted layout, the fit's report.
 pub(super) type BodyParts<D> = (ParticleSet<D>, <D as Dim>::Vector, Option<FitReport>);
 
+/// A body's particles with the solid they fill (`None` for a particle file), for the overlap
+/// check of [`Scene::check_overlaps`].
+pub(super) type BodySolid<D> = Option<Box<dyn Shape<D>>>;
+
 /// Longest line of a particle file, bytes: a line holds four numbers.
 pub(super) const MAX_PARTICLE_LINE: usize = 4096;
 
@@ -267,6 +271,15 @@ impl Scene {
         k: usize,
         b: &Spanned<BodySpec>,
     ) -> Result<BodyParts<D>, SceneError> {
+        self.body_and_solid::<D>(k, b).map(|(parts, _)| parts)
+    }
+
+    /// [`Scene::body`] and the solid its particles fill.
+    pub(super) fn body_and_solid<D: SceneDim>(
+        &self,
+        k: usize,
+        b: &Spanned<BodySpec>,
+    ) -> Result<(BodyParts<D>, BodySolid<D>), SceneError> {
         let s = b.get_ref();
         let key = |name: &str| format!("body[{k}].{name}");
         let at = |name| At {
@@ -281,6 +294,7 @@ impl Scene {
             ));
         }
         let mut report = None;
+        let mut body_solid = None;
         let file_shape = s
             .shape
             .as_ref()
@@ -300,7 +314,12 @@ impl Scene {
             (Some(shape), None) => match layout {
                 "fitted" => {
                     let solid = match shape.geometry_file() {
-                        Some(g) => self.file_solid::<D>(&at("shape"), &key("shape"), shape, g)?,
+                        Some(g) => self.file_solid::<D>(
+                            &at("shape"),
+                            &key("shape"),
+                            matches!(shape, ShapeSpec::Mesh { .. }),
+                            g,
+                        )?,
                         None => {
                             return Err(self.error_in(
                                 &at("layout"),
@@ -316,6 +335,7 @@ impl Scene {
                     let (set, r) = fit::<D>(&solid, s.dp, &options)
                         .map_err(|e| self.error_in(&at("shape"), &key("shape"), e.to_string()))?;
                     report = Some(r);
+                    body_solid = Some(Box::new(solid) as Box<dyn Shape<D>>);
                     set
                 }
                 "lattice" => {
@@ -323,11 +343,17 @@ impl Scene {
                     let origin = sh.bounds().0;
                     let lattice = Lattice::new(s.dp, origin)
                         .map_err(|e| self.error_in(&at("dp"), &key("dp"), e.to_string()))?;
-                    ParticleSet::fill(&lattice, &sh)
-                        .map_err(|e| self.error_in(&at("shape"), &key("shape"), e.to_string()))?
+                    let set = ParticleSet::fill(&lattice, &sh)
+                        .map_err(|e| self.error_in(&at("shape"), &key("shape"), e.to_string()))?;
+                    body_solid = Some(sh);
+                    set
                 }
-                "polar" => D::polar(shape, s.dp)
-                    .map_err(|m| self.error_in(&at("layout"), &key("layout"), m))?,
+                "polar" => {
+                    let set = D::polar(shape, s.dp)
+                        .map_err(|m| self.error_in(&at("layout"), &key("layout"), m))?;
+                    body_solid = Some(self.shape::<D>(&at("shape"), &key("shape"), shape)?);
+                    set
+                }
                 other => {
                     return Err(self.error_in(
                         &at("layout"),
@@ -351,7 +377,7 @@ impl Scene {
             Some(v) => self.vector::<D>(&at("velocity"), &key("velocity"), v)?,
             None => D::zero(),
         };
-        Ok((set, v, report))
+        Ok(((set, v, report), body_solid))
     }
 
     /// A CSV particle file: `x,y[,z],volume` per line, blank lines and `#` comments skipped.
@@ -528,21 +554,25 @@ impl Scene {
                 self.shape::<D>(at, key, cut)?,
             )),
             ShapeSpec::Mesh { .. } | ShapeSpec::Outline { .. } => match s.geometry_file() {
-                Some(g) => Box::new(self.file_solid::<D>(at, key, s, g)?),
+                Some(g) => Box::new(self.file_solid::<D>(
+                    at,
+                    key,
+                    matches!(s, ShapeSpec::Mesh { .. }),
+                    g,
+                )?),
                 None => unreachable!("a mesh or outline has a file"),
             },
         })
     }
 
-    /// A mesh or outline shape: the file (relative to the scene file) read and placed.
+    /// A mesh (`mesh`) or outline shape: the file (relative to the scene file) read and placed.
     pub(super) fn file_solid<D: Dim>(
         &self,
         at: &At<'_>,
         key: &str,
-        s: &ShapeSpec,
+        mesh: bool,
         g: GeometryFileSpec<'_>,
     ) -> Result<FileSolid<D>, SceneError> {
-        let mesh = matches!(s, ShapeSpec::Mesh { .. });
         let kind = if mesh { "mesh" } else { "outline" };
         let bad = |field: &str, m: String| self.error_in(at, &format!("{key}.{kind}.{field}"), m);
         if mesh && D::D != 3 {
@@ -1022,6 +1052,19 @@ impl Scene {
                     self.vector::<D>(&at("shape"), &key("shape"), point)?,
                     self.vector::<D>(&at("shape"), &key("shape"), normal)?,
                 ),
+                ToolShapeSpec::Mesh { .. } | ToolShapeSpec::Outline { .. } => {
+                    match s.shape.geometry_file() {
+                        Some(g) => self
+                            .file_solid::<D>(
+                                &at("shape"),
+                                &key("shape"),
+                                matches!(s.shape, ToolShapeSpec::Mesh { .. }),
+                                g,
+                            )?
+                            .into_tool_shape(),
+                        None => unreachable!("a mesh or outline has a file"),
+                    }
+                }
             }
             .map_err(|e| self.error_in(&at("shape"), &key("shape"), e.to_string()))?;
             let motion = self.tool_motion::<D>(&at, &key, s)?;

@@ -86,8 +86,10 @@ impl Scene {
         let mut ranges: Vec<(String, Range<usize>)> = Vec::new();
         let mut bodies = Vec::new();
         let mut dps = Vec::new();
+        let mut solids = Vec::new();
         for (k, b) in spec.bodies.iter().enumerate() {
-            let (part, _, report) = self.body::<D>(k, b)?;
+            let ((part, _, report), solid) = self.body_and_solid::<D>(k, b)?;
+            solids.push(solid);
             self.check_body_size(k, b, &part)?;
             let r = set
                 .extend(&part)
@@ -108,6 +110,7 @@ impl Scene {
             ranges.push((s.name.clone(), r));
             dps.push(s.dp);
         }
+        self.check_overlaps(&set, &ranges, &solids)?;
         // What a run builds before its solver: each checks its own keys.
         self.constraints::<D>(&set, &ranges)?;
         self.loads::<D>(&set, &ranges, &dps)?;

@@ -13,8 +13,9 @@ impl<D: Dim> UlSolver<D> {
     }
 
     /// The momentum balance `Σ m v − (Σ m v)(t = 0) + J_c`, with `J_c` the impulse the
-    /// constraints removed (the supports' reaction): zero up to round-off for any scene without
-    /// loads, since every internal and contact pair term is antisymmetric. (ENOG drops the
+    /// constraints removed (the supports' reaction) less the impulse the rigid tools gave (and
+    /// the friction with fixed partners): zero up to round-off for any scene without loads,
+    /// since every internal and contact pair term is antisymmetric. (ENOG drops the
     /// accumulated `A_s` of a particle that loses all its neighbours, which breaks the balance
     /// by that particle's share.)
     pub fn momentum_balance(&self) -> D::Vector {
