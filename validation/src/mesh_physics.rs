@@ -516,7 +516,7 @@ fn report_hertz(md: &mut String) {
             .join(", ")
     };
     // The share of the lattice − layers difference that relaxing the surface layer removes
-    // (the mesh's fit starts from the lattice fill: same interior, same count).
+    // (the mesh's fit starts from the lattice fill: the same interior).
     let removed: Vec<String> = HERTZ_MESH_RES
         .iter()
         .filter_map(|&r| {
@@ -524,28 +524,45 @@ fn report_hertz(md: &mut String) {
             Some(format!("{:.0} % at {r}", 100.0 * (1.0 - m / l)))
         })
         .collect();
+    // F_max at the finest resolution: mesh and lattice (one interior) against layers.
+    let force = |l: &str| -> Option<f64> {
+        let r = *HERTZ_MESH_RES.last()?;
+        let x = runs.iter().find(|(res, x, _)| *res == r && *x == l)?;
+        x.2.as_ref()?.num("max_force")
+    };
+    let forces = match (force("mesh"), force("lattice"), force("layers")) {
+        (Some(m), Some(l), Some(y)) => format!(
+            " At R/dp = {}, F_max of the mesh and lattice runs (one interior) differ by {:.1} %, \
+             layers lies {:.1} % below the mesh run and {:.1} % below the lattice one: \
+             consistent with that, not a proof; separating the two would take a run with \
+             concentric shells inside and the fitted layer outside.",
+            HERTZ_MESH_RES.last().copied().unwrap_or(0),
+            100.0 * (m / l - 1.0).abs(),
+            100.0 * (1.0 - y / m),
+            100.0 * (1.0 - y / l)
+        ),
+        _ => String::new(),
+    };
     writeln!(
         md,
         "The mesh-built spheres do not meet the 1 % asked of them against `layers` at these \
          resolutions: `t_c` mesh − layers is {}. The difference falls with dp (about first \
          order), and the mesh run is the closer to Hertz's `t_c` at every resolution. What it \
          is not, measured: the mesh's faceting (6·10⁻⁴ R at most, 0.6–1.2 % of dp here; \
-         0.3 % of the contact radius a), the mass (each row is against Hertz for its own mass), or the position \
-         of the surface: over the Hertz contact radius `a = √(R δ_max/2)` = 0.21 R the fitted \
-         outer layer lies dp/2 deep to 0.012 dp, as the `layers` one does exactly. The pairs \
-         closer than dp when the undeformed spheres overlap by δ_max/2 and δ_max (what the \
-         contact density starts from) differ at R/dp = 10 (the fit packs 16 particles in the \
-         patch where 13.7 fit a square array), but not in the direction of `t_c` at 15 and 20 \
-         (as many or fewer pairs, yet a shorter contact), so the contact layer alone does not \
-         explain it either. The measured decomposition is against the lattice: the fit starts \
-         from the `lattice` fill (same interior, same count) and only moves the particles near \
-         the surface, and that removes {} of the lattice − layers difference ({}); the \
-         remaining {} lies between a lattice-interior body with a relaxed surface and \
-         concentric shells, i.e. in the arrangement of the particles inside and along the \
-         surface, which the contact samples at a = 2–4 dp. At R/dp = 20, where both are close \
-         to Hertz, F_max groups by interior (mesh and lattice within 0.5 % of each other, \
-         layers 1.4–1.8 % below both), consistent with that but not a proof; separating the \
-         two would take a run with concentric shells inside and the fitted layer outside.\n",
+         0.3 % of the contact radius a), the mass (each row is against Hertz for its own \
+         mass), or the position of the surface: over the Hertz contact radius \
+         `a = √(R δ_max/2)` = 0.21 R the fitted outer layer lies dp/2 deep (the patch depth \
+         column), as the `layers` one does exactly. The pairs closer than dp when the \
+         undeformed spheres overlap by δ_max/2 and δ_max (what the contact density starts \
+         from, the last column) differ between the layouts, but not consistently in the \
+         direction of `t_c`, so the contact layer alone does not explain it either. The \
+         measured decomposition is against the lattice: the fit starts from the `lattice` fill \
+         (the same interior; the count matched to the mesh's volume by removing or adding \
+         particles in the surface layer) and moves only the particles near the surface, and \
+         that removes {} of the lattice − layers difference ({}); the remaining {} lies \
+         between a lattice-interior body with a relaxed surface and concentric shells, i.e. in \
+         the arrangement of the particles inside and along the surface, which the contact \
+         samples at a = 2–4 dp.{forces}\n",
         list("mesh"),
         removed.join(", "),
         list("lattice"),
