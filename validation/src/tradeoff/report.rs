@@ -37,8 +37,13 @@ pub fn report(root: &Path) -> Result<(), String> {
     }
     any |= estimates::section(&mut md);
     let data = advice_data::path(root);
-    std::fs::write(&data, advice_data::text()).map_err(|e| format!("{}: {e}", data.display()))?;
-    println!("wrote {}", data.display());
+    let text = advice_data::text();
+    // Written only when it changes: it is compiled into sph-cases, and a new modification
+    // time alone makes cargo rebuild that crate after every report.
+    if std::fs::read_to_string(&data).ok().as_deref() != Some(text.as_str()) {
+        std::fs::write(&data, &text).map_err(|e| format!("{}: {e}", data.display()))?;
+        println!("wrote {}", data.display());
+    }
     writeln!(md, "## Stability at the extremes\n").unwrap();
     // The plate runs of the calibration: the frame clamp's (docs/validation.md, TL Table 1).
     let disorder = |id: &str| {
