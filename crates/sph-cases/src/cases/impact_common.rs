@@ -113,7 +113,7 @@ pub fn body_velocities<D: Dim>(
 /// Figures of the contact force on body `body` (the series `contact_force_<body>`, columns
 /// `x`, `y` (, `z`)) along the unit `axis` (the impact direction; the force on the body is
 /// against it): the largest magnitude `contact_force_max`, its time, and the first contact's
-/// start, end and duration ([`force_figures`]).
+/// start, end and duration.
 pub fn contact_summary<D: Dim>(
     s: &dyn Solver<D>,
     body: usize,
