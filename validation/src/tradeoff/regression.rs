@@ -140,9 +140,11 @@ pub fn validation_runs(max_solver_seconds: f64) -> Vec<crate::store::StoredRun> 
 }
 
 /// Re-runs a stored validation run through the library (the method's defaults, its
-/// settings, no output) and lists every physics figure of its summary that differs from the
-/// stored one by more than `tolerance` (relative; absolute below 1e-12), and a status that
-/// differs.
+/// settings, and a results file, in a temporary folder, where the stored run wrote one: ENOG
+/// integrates its output-only shear stress then, and its budget's shear term is that
+/// stress's estimate instead of the exact work) and lists every physics figure of its summary
+/// that differs from the stored one by more than `tolerance` (relative; absolute below
+/// 1e-12), and a status that differs.
 ///
 /// # Errors
 /// The case refuses the stored settings.
@@ -152,9 +154,15 @@ pub fn compare(run: &crate::store::StoredRun, tolerance: f64) -> Result<Vec<Stri
     for a in &run.set {
         p.apply_assignment(a).map_err(|e| e.to_string())?;
     }
-    let (_, summary) = case
-        .run(&run.method, &p, &RunOptions::default())
-        .map_err(|e| format!("{}: {e}", run.id))?;
+    let dir =
+        std::env::temp_dir().join(format!("sph-regression-{}-{}", run.id, std::process::id()));
+    let options = RunOptions {
+        output: run.results_file.is_some().then(|| dir.join("run")),
+        ..Default::default()
+    };
+    let result = case.run(&run.method, &p, &options);
+    let _ = std::fs::remove_dir_all(&dir);
+    let (_, summary) = result.map_err(|e| format!("{}: {e}", run.id))?;
     let mut moved = Vec::new();
     for (key, stored) in &run.summary {
         if MACHINE_KEYS.contains(&key.as_str()) {
