@@ -178,6 +178,8 @@ pub struct UlSolver<D: Dim> {
     constraint_impulse: D::Vector,
     budget_parts: Vec<[D::Vector; 2]>,
     load_accelerations: Vec<D::Vector>,
+    // Scratch: a step's kicked velocities, for the budget's booking where a tool changes them.
+    kicked: Vec<D::Vector>,
     // Particles without neighbours: at the last rebuild, the most at any rebuild, first time.
     isolated: usize,
     isolated_max: usize,

@@ -172,6 +172,7 @@ impl<D: Dim> UlSolver<D> {
             initial_total: 0.0,
             initial_momentum: D::zero(),
             constraint_impulse: D::zero(),
+            kicked: Vec::new(),
             budget_parts: if params.energy_budget {
                 vec![[D::zero(); 2]; n]
             } else {

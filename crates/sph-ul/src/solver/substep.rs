@@ -680,7 +680,11 @@ impl<D: Dim> UlSolver<D> {
     fn enforce_tool_contact(&mut self, dt: f64) {
         let half_dp = 0.5 * self.kernel.h() / self.params.h_over_dp;
         // The kicked velocities, for the budget's booking after the tools changed them.
-        let kicked = self.params.energy_budget.then(|| self.velocities.clone());
+        let budget = self.params.energy_budget;
+        if budget {
+            self.kicked.clear();
+            self.kicked.extend_from_slice(&self.velocities);
+        }
         self.tools.begin_step();
         self.tools.enforce(
             self.time + 0.5 * dt,
@@ -696,8 +700,10 @@ impl<D: Dim> UlSolver<D> {
         self.tools.end_step(dt);
         // The tools' push leaves the body's momentum as a support's reaction does.
         self.constraint_impulse -= self.tools.step_impulse();
-        if let Some(kicked) = kicked {
+        if budget {
+            let kicked = std::mem::take(&mut self.kicked);
             self.rebook_tool_work(&kicked, dt);
+            self.kicked = kicked;
         }
     }
 
